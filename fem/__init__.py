@@ -1,0 +1,1 @@
+"""2-D plane-strain finite-element companion of the rigid DFP model (scikit-fem + gmsh)."""

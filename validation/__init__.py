@@ -1,0 +1,1 @@
+"""Validation runs across ground-motion sets, the result store, reports and the ``dfp`` command."""
