@@ -1,0 +1,275 @@
+r"""Plane-strain J2 plasticity with capped linear isotropic hardening.
+
+Radial return (Wilkins 1964; Simo & Hughes 1998, Box 3.2) with the consistent (algorithmic)
+tangent (Simo & Taylor 1985; de Souza Neto, Perić & Owen 2008, Eq. 7.120), vectorised over
+quadrature points.
+
+Tensors are Mandel 4-vectors ``[xx, yy, zz, √2·xy]`` (components first, then any trailing
+shape such as ``(nelems, nqp)``), so that ``a : b = a · b`` and the tangent is a symmetric
+4 × 4 matrix per point. Plane strain means the *total* ε_zz = 0, but the plastic ε^p_zz is not
+zero, so the zz component is carried throughout.
+
+The flow stress is piecewise linear in the equivalent plastic strain p::
+
+    σ_y(p) = min(f_y + H p, f_u),   H = E E_t / (E − E_t),   E_t = r E,
+
+i.e. a bilinear uniaxial curve from f_y with tangent modulus E_t up to f_u, perfectly plastic
+after. H is the plastic modulus of the uniaxial curve (dσ/dε^p). The kink at
+p_u = (f_u − f_y)/H is handled exactly: the linear consistency equation is solved on the
+hardening branch first and, if its root lies beyond p_u, on the flat branch.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from rigid.bearing import DFPBearing
+
+SQRT_2 = math.sqrt(2.0)
+SQRT_3_2 = math.sqrt(1.5)
+
+#: Second-order identity as a Mandel vector.
+IDENTITY = np.array([1.0, 1.0, 1.0, 0.0])
+#: Deviatoric projector P_dev = I − (1/3) 1 ⊗ 1 as a Mandel matrix.
+DEVIATORIC_PROJECTOR = np.eye(4) - np.outer(IDENTITY, IDENTITY) / 3.0
+
+
+@dataclass(frozen=True)
+class Material:
+    """Isotropic elastoplastic steel, J2 with capped linear isotropic hardening.
+
+    Parameters
+    ----------
+    youngs_modulus : float [Pa]
+        Young's modulus E.
+    poisson_ratio : float [-]
+        Poisson's ratio ν, 0 ≤ ν < 0.5.
+    yield_stress : float [Pa]
+        Initial uniaxial yield stress f_y.
+    ultimate_stress : float [Pa]
+        Flow stress at which hardening stops, f_u ≥ f_y; ``math.inf`` for unbounded
+        linear hardening.
+    hardening_ratio : float [-]
+        Post-yield to elastic stiffness ratio E_t/E of the uniaxial curve, 0 ≤ r < 1;
+        0 gives perfect plasticity at f_y.
+    """
+
+    youngs_modulus: float
+    poisson_ratio: float
+    yield_stress: float
+    ultimate_stress: float
+    hardening_ratio: float
+
+    def __post_init__(self):
+        for name in ("youngs_modulus", "yield_stress"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"Material.{name} must be a positive finite number, got {value!r}")
+        if not 0 <= self.poisson_ratio < 0.5:
+            raise ValueError(
+                f"Material.poisson_ratio must lie in [0, 0.5), got {self.poisson_ratio!r}"
+            )
+        if not 0 <= self.hardening_ratio < 1:
+            raise ValueError(
+                f"Material.hardening_ratio must lie in [0, 1), got {self.hardening_ratio!r}"
+            )
+        if not self.ultimate_stress >= self.yield_stress:
+            raise ValueError(
+                f"Material.ultimate_stress ({self.ultimate_stress!r}) must not be below "
+                f"yield_stress ({self.yield_stress!r})"
+            )
+
+    @classmethod
+    def from_bearing(cls, bearing: DFPBearing) -> Material:
+        """The rim steel of a :class:`rigid.DFPBearing`.
+
+        Parameters
+        ----------
+        bearing : rigid.DFPBearing
+            Supplies ``youngs_modulus`` [Pa], ``poisson_ratio`` [-], ``yield_stress`` [Pa],
+            ``ultimate_stress`` [Pa] and ``hardening_ratio`` [-].
+        """
+        return cls(
+            youngs_modulus=bearing.youngs_modulus,
+            poisson_ratio=bearing.poisson_ratio,
+            yield_stress=bearing.yield_stress,
+            ultimate_stress=bearing.ultimate_stress,
+            hardening_ratio=bearing.hardening_ratio,
+        )
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2(1 + ν)) [Pa]."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+    @property
+    def bulk_modulus(self) -> float:
+        """K = E / (3(1 − 2ν)) [Pa]."""
+        return self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
+
+    @property
+    def tangent_modulus(self) -> float:
+        """Post-yield uniaxial tangent modulus E_t = r E [Pa]."""
+        return self.hardening_ratio * self.youngs_modulus
+
+    @property
+    def plastic_modulus(self) -> float:
+        """Plastic modulus H = E E_t / (E − E_t) = dσ_y/dp [Pa]."""
+        r = self.hardening_ratio
+        return self.youngs_modulus * r / (1.0 - r)
+
+    @property
+    def ultimate_plastic_strain(self) -> float:
+        """Equivalent plastic strain at the kink, p_u = (f_u − f_y)/H [-] (inf if H = 0)."""
+        h = self.plastic_modulus
+        if h == 0.0 or math.isinf(self.ultimate_stress):
+            return math.inf
+        return (self.ultimate_stress - self.yield_stress) / h
+
+    def flow_stress(self, eq_plastic_strain):
+        """Current yield stress σ_y(p) = min(f_y + H p, f_u) [Pa].
+
+        Parameters
+        ----------
+        eq_plastic_strain : array_like [-]
+            Equivalent plastic strain p ≥ 0.
+        """
+        p = np.asarray(eq_plastic_strain, dtype=float)
+        return np.minimum(self.yield_stress + self.plastic_modulus * p, self.ultimate_stress)
+
+    def elastic_tangent(self) -> np.ndarray:
+        """Elasticity matrix C = 3K·(1⊗1)/3 + 2G·P_dev in Mandel form, shape (4, 4) [Pa]."""
+        return (
+            self.bulk_modulus * np.outer(IDENTITY, IDENTITY)
+            + 2.0 * self.shear_modulus * DEVIATORIC_PROJECTOR
+        )
+
+
+class MaterialState(NamedTuple):
+    """History variables at quadrature points (never modified in place).
+
+    Attributes
+    ----------
+    plastic_strain : ndarray, shape (4, ...) [-]
+        Plastic strain ε^p in Mandel form, including ε^p_zz.
+    eq_plastic_strain : ndarray, shape (...) [-]
+        Equivalent plastic strain p = ∫ √(2/3) ‖dε^p‖.
+    """
+
+    plastic_strain: np.ndarray
+    eq_plastic_strain: np.ndarray
+
+    @classmethod
+    def virgin(cls, shape) -> MaterialState:
+        """Zero plastic strain at points of the given shape, e.g. ``(nelems, nqp)``."""
+        shape = (shape,) if isinstance(shape, (int, np.integer)) else tuple(shape)
+        return cls(np.zeros((4, *shape)), np.zeros(shape))
+
+
+class ReturnMapResult(NamedTuple):
+    """Output of :func:`return_map`, all new arrays.
+
+    Attributes
+    ----------
+    stress : ndarray, shape (4, ...) [Pa]
+        Cauchy stress in Mandel form (σ_zz included).
+    tangent : ndarray, shape (4, 4, ...) [Pa]
+        Consistent tangent dσ/dε in Mandel form.
+    state : MaterialState
+        Trial history variables; commit them only once the global iteration has converged.
+    plastic : ndarray of bool, shape (...)
+        Whether the point is on the plastic branch in this increment.
+    """
+
+    stress: np.ndarray
+    tangent: np.ndarray
+    state: MaterialState
+    plastic: np.ndarray
+
+
+def deviator(tensor: np.ndarray) -> np.ndarray:
+    """Deviatoric part of Mandel vectors ``tensor`` of shape (4, ...)."""
+    dev = np.array(tensor, dtype=float, copy=True)
+    dev[:3] -= dev[:3].sum(axis=0) / 3.0
+    return dev
+
+
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """Von Mises equivalent stress √(3/2) ‖dev σ‖ [Pa] of Mandel vectors (4, ...)."""
+    s = deviator(stress)
+    return SQRT_3_2 * np.sqrt(np.einsum("i...,i...->...", s, s))
+
+
+def return_map(
+    material: Material, strain: np.ndarray, state: MaterialState
+) -> ReturnMapResult:
+    """Radial return for a total strain from the last converged state (backward Euler).
+
+    Parameters
+    ----------
+    material : Material
+        Elastoplastic parameters.
+    strain : ndarray, shape (4, ...) [-]
+        Total strain at the end of the increment, Mandel ``[xx, yy, zz, √2 xy]``; plane strain
+        has ``strain[2] == 0``.
+    state : MaterialState
+        History variables of the last *converged* increment (not modified).
+
+    Returns
+    -------
+    ReturnMapResult
+        Stress [Pa], consistent tangent [Pa], trial state and the plastic mask.
+    """
+    strain = np.asarray(strain, dtype=float)
+    eps_p_n = np.asarray(state.plastic_strain, dtype=float)
+    p_n = np.asarray(state.eq_plastic_strain, dtype=float)
+    G = material.shear_modulus
+    K = material.bulk_modulus
+    H = material.plastic_modulus
+    p_u = material.ultimate_plastic_strain
+    f_u = material.ultimate_stress
+
+    # Elastic predictor (Simo & Hughes 1998, Box 3.2, step 1).
+    eps_e = strain - eps_p_n
+    volumetric = eps_e[:3].sum(axis=0)
+    s_trial = 2.0 * G * deviator(eps_e)
+    norm_trial = np.sqrt(np.einsum("i...,i...->...", s_trial, s_trial))
+    q_trial = SQRT_3_2 * norm_trial
+    f_trial = q_trial - material.flow_stress(p_n)
+    plastic = f_trial > 0.0
+
+    # Plastic corrector: the consistency condition q_tr − 3GΔp = σ_y(p_n + Δp) is linear on
+    # each branch of the capped law (Box 3.2, step 2; de Souza Neto et al. 2008, Eq. 7.91).
+    # Hardening branch first; if its root passes the kink p_u, the root lies on the flat branch.
+    dp_hard = np.where(plastic, f_trial, 0.0) / (3.0 * G + H)
+    on_flat = plastic & (p_n + dp_hard > p_u)
+    dp_flat = np.where(on_flat, q_trial - f_u, 0.0) / (3.0 * G)
+    dp = np.where(on_flat, dp_flat, dp_hard)
+    h_alg = np.where(on_flat, 0.0, H)
+
+    safe_norm = np.where(plastic, norm_trial, 1.0)
+    n_hat = s_trial / safe_norm  # unit flow direction N̂ = s_tr/‖s_tr‖
+    # Δε^p = Δp √(3/2) N̂ ; s = s_tr − 2G Δε^p (Box 3.2, step 3).
+    d_eps_p = SQRT_3_2 * dp * n_hat
+    stress = s_trial - 2.0 * G * d_eps_p
+    stress[:3] += K * volumetric
+
+    # Consistent tangent (de Souza Neto et al. 2008, Eq. 7.120):
+    # D = K 1⊗1 + 2G(1 − 3GΔp/q_tr) P_dev + 6G²(Δp/q_tr − 1/(3G + H_alg)) N̂⊗N̂.
+    safe_q = np.where(plastic, q_trial, 1.0)
+    ratio = np.where(plastic, dp / safe_q, 0.0)
+    beta = np.where(plastic, 6.0 * G * G * (ratio - 1.0 / (3.0 * G + h_alg)), 0.0)
+    extra = (1,) * (strain.ndim - 1)
+    vol = (K * np.outer(IDENTITY, IDENTITY)).reshape(4, 4, *extra)
+    dev = (2.0 * G * DEVIATORIC_PROJECTOR).reshape(4, 4, *extra)
+    tangent = vol + dev * (1.0 - 3.0 * G * ratio) + beta * np.einsum(
+        "i...,j...->ij...", n_hat, n_hat
+    )
+
+    new_state = MaterialState(eps_p_n + d_eps_p, p_n + dp)
+    return ReturnMapResult(stress, tangent, new_state, plastic)
