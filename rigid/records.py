@@ -22,7 +22,6 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
 
 from .bearing import G
 
@@ -170,11 +169,11 @@ class GroundMotion:
             order 1 removes a constant acceleration offset. See :meth:`baseline_corrected`.
         """
         motion = self if baseline is None else self.baseline_corrected(baseline)
-        return cumulative_trapezoid(motion.acceleration, dx=self.dt, initial=0.0)
+        return integrate(motion.acceleration, self.dt)
 
     def displacement(self, baseline: int | None = None) -> np.ndarray:
         """Ground displacement [m] by trapezoidal integration of :meth:`velocity`."""
-        return cumulative_trapezoid(self.velocity(baseline), dx=self.dt, initial=0.0)
+        return integrate(self.velocity(baseline), self.dt)
 
     def baseline_corrected(self, order: int = 1) -> GroundMotion:
         """A copy with a polynomial velocity baseline removed.
@@ -192,7 +191,7 @@ class GroundMotion:
         if int(order) < 1:
             raise ValueError(f"baseline order must be ≥ 1, got {order!r}")
         t = self.time
-        v = cumulative_trapezoid(self.acceleration, dx=self.dt, initial=0.0)
+        v = integrate(self.acceleration, self.dt)
         powers = np.arange(1, int(order) + 1)
         coef, *_ = np.linalg.lstsq(t[:, None] ** powers, v, rcond=None)  # p(t) = Σ c_k t^k
         slope = (powers * coef * t[:, None] ** (powers - 1)).sum(axis=1)  # p′(t)
@@ -220,6 +219,19 @@ class GroundMotion:
 
 
 # --------------------------------------------------------------------------- helpers
+
+
+def integrate(x, dt: float):
+    """Cumulative trapezoidal integral of ``x`` with step ``dt`` [s], starting from 0.
+
+    Same as ``scipy.integrate.cumulative_trapezoid(x, dx=dt, initial=0)`` without importing
+    scipy.integrate (which would make ``import rigid`` slow).
+    """
+    x = np.asarray(x, dtype=float)
+    out = np.empty_like(x)
+    out[..., 0] = 0.0
+    np.cumsum(0.5 * dt * (x[..., 1:] + x[..., :-1]), axis=-1, out=out[..., 1:])
+    return out
 
 
 def _read_lines(path) -> list[str]:

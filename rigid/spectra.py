@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.signal import lfilter
 
 from .bearing import G
 
@@ -133,6 +132,8 @@ def spectral_displacement(acceleration, dt: float, periods, damping: float = 0.0
     ndarray [m]
         Shape ``acceleration.shape[:-1] + (len(periods),)``.
     """
+    from scipy.signal import lfilter  # lazy: scipy.signal takes ~0.5 s to import
+
     acc, per = _check_inputs(acceleration, dt, periods, damping)
     out = np.empty((*acc.shape[:-1], per.size))
     a0 = acc[..., :1]

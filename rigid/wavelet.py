@@ -25,11 +25,9 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.fft import irfft, next_fast_len, rfft
-from scipy.integrate import cumulative_trapezoid
-from scipy.ndimage import maximum_filter1d
 
 from .pulses import ANTISYMMETRIC_NORM, KINDS, ricker, ricker_velocity
+from .records import integrate
 
 __all__ = [
     "SOURCES",
@@ -194,6 +192,8 @@ def wavelet_transform(x, dt: float, periods, kind: str, source: str = "accelerat
     -------
     ndarray, shape (len(periods), len(x)) [m/s] or [m]
     """
+    from scipy.fft import irfft, next_fast_len, rfft  # lazy: keeps `import rigid` light
+
     _check(kind, source)
     x = np.asarray(x, dtype=float)
     scales = np.asarray(periods, dtype=float)
@@ -223,6 +223,8 @@ def wavelet_transform(x, dt: float, periods, kind: str, source: str = "accelerat
 
 def _row_maxima(mag):
     """Per-row 3-point running maximum of |W|, and the points that are maxima along ξ."""
+    from scipy.ndimage import maximum_filter1d
+
     row_max = maximum_filter1d(mag, 3, axis=1, mode="constant", cval=-np.inf)
     rows, cols = np.nonzero(mag >= row_max)
     return row_max, rows, cols
@@ -289,7 +291,7 @@ def _refine(mag, weights, r: int, c: int, periods, dt: float):
 def _fit(acc, vel, t, dt, kind, source, weighting, period, t0, coefficient):
     """Least-squares amplitude in the source's domain and e_a, e_v (paper Eqs. 8–9)."""
     a1 = ricker(t, 1.0, period, kind, t0=t0)
-    v1 = cumulative_trapezoid(a1, dx=dt, initial=0.0)  # same integrator as the record
+    v1 = integrate(a1, dt)  # same integrator as the record
     if source == "acceleration":
         den = float(a1 @ a1)
         amp = float(acc @ a1) / den if den > 0 else 0.0
@@ -358,7 +360,7 @@ def extract_pulses(
         _check(kind=knd)
     t = np.arange(acc.size) * dt
     periods = default_periods(dt, t[-1]) if periods is None else np.asarray(periods, float)
-    vel = cumulative_trapezoid(acc, dx=dt, initial=0.0)
+    vel = integrate(acc, dt)
     result = {}
     for src in sources:
         x = acc if src == "acceleration" else vel
