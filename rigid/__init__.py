@@ -4,34 +4,36 @@ Bao & Becker (2016), *Predicting failure in sliding isolation bearings under lon
 motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
 """
 
-from .bearing import G, DFPBearing, jankowski_damping_ratio
+from .bearing import DFPBearing, G, jankowski_damping_ratio
+from .model import Impact, NumericalInstabilityError, SimulationResult, simulate
 from .pulses import ricker, ricker_displacement, ricker_record, ricker_velocity
+from .record_sets import fema_p695, read_manifest
+from .records import GroundMotion, RecordFormatError, read_record
+from .spectra import pseudo_acceleration, scale_factor, scaling_ladder
+from .wavelet import Pulse, best_pulse, extract_pulse, extract_pulses
 
 __all__ = [
-    "G",
     "DFPBearing",
-    "jankowski_damping_ratio",
-    "ricker",
-    "ricker_displacement",
-    "ricker_record",
-    "ricker_velocity",
-]
-from .record_sets import fema_p695, read_manifest  # noqa: E402
-from .records import GroundMotion, RecordFormatError, read_record  # noqa: E402
-from .spectra import pseudo_acceleration, scale_factor, scaling_ladder  # noqa: E402
-from .wavelet import Pulse, best_pulse, extract_pulse, extract_pulses  # noqa: E402
-
-__all__ += [
+    "G",
     "GroundMotion",
+    "Impact",
+    "NumericalInstabilityError",
     "Pulse",
     "RecordFormatError",
+    "SimulationResult",
     "best_pulse",
     "extract_pulse",
     "extract_pulses",
     "fema_p695",
+    "jankowski_damping_ratio",
     "pseudo_acceleration",
     "read_manifest",
     "read_record",
+    "ricker",
+    "ricker_displacement",
+    "ricker_record",
+    "ricker_velocity",
     "scale_factor",
     "scaling_ladder",
+    "simulate",
 ]

@@ -65,14 +65,15 @@ class DFPBearing:
         penetration ≈ 1.1 mm at 60 MPa).
     restitution : float [-]
         Coefficient of restitution e of the contact damper, paper Eq. 4. *Paper*: 0.65.
+        The masses m1, m2 of paper Eq. 3 are not given in the paper; *assumed*: the slider
+        against a plate, m1·m2/(m1 + m2) = m_s (bottom plate, rigid ground) or
+        m_s·M/(m_s + M) (top plate). Using M instead makes the damper too stiff for any
+        practical explicit step (see README, open questions).
     rim_friction : float [-]
         Friction coefficient between the slider's sides and the rims. *Assumed* 0.05.
     friction_yield_slip : float [m]
-        Slip Y at which the hysteretic (Bouc–Wen) friction state saturates; the pre-sliding
-        stiffness is μN/Y. *Assumed* 1e-4 m.
-    damping_mass : {"slider", "supported"}
-        Which mass enters m1·m2/(m1 + m2) of paper Eq. 3 for the rim contacts: the slider's
-        (default, *assumed*) or the supported mass (sensitivity option).
+        Elastic slip Y of the hysteretic friction state before sliding starts; the
+        pre-sliding stiffness of each contact is μN/Y. *Assumed* 1e-4 m.
     design_period : float [s]
         Period Tb at which records are scaled, SA(Tb). *Paper*: 4.5 s.
     steel_density : float [kg/m³]
@@ -103,7 +104,6 @@ class DFPBearing:
     restitution: float = 0.65
     rim_friction: float = 0.05
     friction_yield_slip: float = 1e-4
-    damping_mass: str = "slider"
     design_period: float = 4.5
     steel_density: float = 7850.0
     youngs_modulus: float = 200e9
@@ -120,8 +120,6 @@ class DFPBearing:
             "yield_stress ultimate_stress plate_thickness"
         ).split()
         for f in fields(self):
-            if f.name == "damping_mass":
-                continue
             value = getattr(self, f.name)
             if not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise ValueError(f"DFPBearing.{f.name} must be a finite number, got {value!r}")
@@ -130,7 +128,9 @@ class DFPBearing:
         if not 0 <= self.friction < 1:
             raise ValueError(f"DFPBearing.friction must lie in [0, 1), got {self.friction!r}")
         if not 0 <= self.rim_friction < 1:
-            raise ValueError(f"DFPBearing.rim_friction must lie in [0, 1), got {self.rim_friction!r}")
+            raise ValueError(
+                f"DFPBearing.rim_friction must lie in [0, 1), got {self.rim_friction!r}"
+            )
         if not 0 < self.restitution <= 1:
             raise ValueError(f"DFPBearing.restitution must lie in (0, 1], got {self.restitution!r}")
         if not 0 < self.hardening_ratio < 1:
@@ -138,13 +138,11 @@ class DFPBearing:
                 f"DFPBearing.hardening_ratio must lie in (0, 1), got {self.hardening_ratio!r}"
             )
         if not 0 < self.poisson_ratio < 0.5:
-            raise ValueError(f"DFPBearing.poisson_ratio must lie in (0, 0.5), got {self.poisson_ratio!r}")
+            raise ValueError(
+                f"DFPBearing.poisson_ratio must lie in (0, 0.5), got {self.poisson_ratio!r}"
+            )
         if self.ultimate_stress < self.yield_stress:
             raise ValueError("DFPBearing.ultimate_stress must not be below yield_stress")
-        if self.damping_mass not in ("slider", "supported"):
-            raise ValueError(
-                f"DFPBearing.damping_mass must be 'slider' or 'supported', got {self.damping_mass!r}"
-            )
         if self.slider_diameter >= self.radius:
             raise ValueError("DFPBearing.slider_diameter must be smaller than the radius")
         if self.slider_height <= 2 * self.face_sag:
@@ -221,7 +219,8 @@ class DFPBearing:
         r_in = (b/2) cos φ + (R − sag) sin φ (``reference/rigid_model.md`` §8.1).
         """
         phi = self.capacity_tilt
-        return 0.5 * self.slider_diameter * math.cos(phi) + (self.radius - self.face_sag) * math.sin(phi)
+        half_b = 0.5 * self.slider_diameter
+        return half_b * math.cos(phi) + (self.radius - self.face_sag) * math.sin(phi)
 
     def dish_depth(self, r: float) -> float:
         """Height of the dish surface above its apex at horizontal distance r [m]."""

@@ -120,5 +120,5 @@ def ricker_record(
         raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
     lead = 2.0 * period if lead is None else lead
     duration = lead + 2.0 * period + free if duration is None else duration
-    t = np.arange(int(round(duration / dt)) + 1) * dt
+    t = np.arange(round(duration / dt) + 1) * dt
     return t, ricker(t, amplitude, period, kind, t0=lead)

@@ -1,0 +1,513 @@
+"""Numba core of the rigid-body DFP model (private; use :func:`rigid.simulate`).
+
+Frame: X horizontal (direction of shaking), Z up, coordinates relative to the bottom plate,
+which follows the ground; every free body carries the inertial load −m·a_g in X.
+Bodies: slider (x_S, z_S, θ) and top plate with the supported mass (x_T, z_T), paper §2.
+Contacts (12 slots, each with its own hysteretic friction state):
+
+* 0–3   slider vertices on the dish of their plate (bottom-left, bottom-right, top-left,
+        top-right vertex), reference rigid_model.md §6.3;
+* 4–7   the same vertices against the restraining rim they face (inner face or rim top);
+* 8–11  the rims' inner corners (bottom −x, bottom +x, top −x, top +x) against the slider's
+        sides and faces, so that a tilted slider cannot pass through a rim corner.
+
+Normal force: Hertz with the Jankowski nonlinear damper, F = kδ^1.5 + cδ̇ on approach and kδ^1.5
+on restitution, c = 2ξ√(k√δ·m_eff) (paper Eqs. 1–4). Friction: Coulomb, μF_n·Z, with Z a
+hysteretic state per contact: an elastic–perfectly-plastic tangential spring of stiffness
+μF_n/Y (the sharp limit of the Bouc–Wen law), updated by its exact return map.
+
+Time stepping: velocity Verlet (kick–drift–kick). Velocity-dependent forces (damper, friction)
+use the half-step velocity, the usual DEM practice; the hot loop allocates nothing.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# parameter vector layout ------------------------------------------------------------------
+P_R, P_HALF_B, P_HS, P_HALF_HE, P_RIN, P_TR, P_ZTOP = 0, 1, 2, 3, 4, 5, 6
+P_K, P_XI, P_MU, P_MU_RIM, P_Y, P_MS, P_JS, P_M, P_G = 7, 8, 9, 10, 11, 12, 13, 14, 15
+P_MEFF_BOT, P_MEFF_TOP, P_DMAX, P_MERGE = 16, 17, 18, 19
+N_PARAMS = 20
+
+# history channels ----------------------------------------------------------------------------
+H_XT, H_ZT, H_XS, H_ZS, H_TH, H_VT, H_SHEAR, H_RIMF = 0, 1, 2, 3, 4, 5, 6, 7
+H_EIN, H_EKIN, H_EPOT, H_EFRIC, H_EIMP = 8, 9, 10, 11, 12
+N_CHANNELS = 13
+
+# summary entries -----------------------------------------------------------------------------
+S_STATUS, S_FAIL_TIME, S_FAIL_CODE, S_N_EVENTS, S_MAX_UPLIFT, S_MAX_ROT = 0, 1, 2, 3, 4, 5
+S_MAX_PEN, S_MAX_RIMF, S_EIN, S_EKIN, S_EPOT, S_EFRIC, S_EIMP, S_N_REC, S_STEPS = (
+    6,
+    7,
+    8,
+    9,
+    10,
+    11,
+    12,
+    13,
+    14,
+)
+N_SUMMARY = 15
+
+# status and failure codes --------------------------------------------------------------------
+STATUS_OK, STATUS_FAILED, STATUS_NUMERICAL = 0, 1, 2
+FAIL_BOTTOM_RIM, FAIL_TOP_RIM, FAIL_CENTROID, FAIL_OVERTURN = 1, 2, 3, 4
+NUM_NAN, NUM_PENETRATION, NUM_ENERGY = 10, 11, 12
+#: energy residual, relative to the input energy, beyond which the run counts as unstable
+ENERGY_TOLERANCE = 0.05
+
+N_SLOTS = 12
+N_RIMS = 4
+EVENT_FIELDS = 5  # time, rim, top-plate velocity, peak rim force, duration
+
+
+@njit(cache=True)
+def friction_state_update(z0, slip_over_y):
+    """Hysteretic friction state after a slip (in units of Y): an elastic–perfectly-plastic
+    tangential spring, the η → ∞ limit of the Bouc–Wen law (Cundall & Strack 1979).
+
+    Z = F_t/(μF_n) grows by slip/Y while sticking and saturates at ±1 while sliding; the
+    update is the exact return map, stable at any step.
+    """
+    return min(1.0, max(-1.0, z0 + slip_over_y))
+
+
+@njit(cache=True)
+def hertz_damped_force(delta, delta_rate, k, xi, meff):
+    """Normal contact force of paper Eqs. 1–3 as (elastic, damper) parts [N], for δ > 0.
+
+    Elastic kδ^1.5 always; damper cδ̇ with c = 2ξ√(k√δ·m_eff) only on approach (δ̇ > 0), so
+    the force is never tensile.
+    """
+    sd = math.sqrt(delta)
+    f_el = k * delta * sd
+    if delta_rate > 0.0:
+        return f_el, 2.0 * xi * math.sqrt(k * sd * meff) * delta_rate
+    return f_el, 0.0
+
+
+@njit(cache=True, inline="always")
+def _apply(
+    slot, delta, nx, nz, px, pz, xs, zs, vsx, vsz, om, vpx, vpz, meff, mu, p, h, Z, gen, top, acc
+):
+    """Contact force of one slot on the slider at point (px, pz) with normal (nx, nz).
+
+    (vpx, vpz) is the velocity of the plate's material point; ``top`` is True when the
+    reaction acts on the top plate. Adds generalized forces into ``gen`` and the energy
+    terms into ``acc``: [elastic energy, damping power, friction power, bottom Fx, rim Fn].
+    Returns the normal force.
+    """
+    rx = px - xs
+    rz = pz - zs
+    # relative velocity of the slider's material point with respect to the plate
+    wx = vsx - om * rz - vpx
+    wz = vsz + om * rx - vpz
+    ddot = -(wx * nx + wz * nz)
+    vt = -wx * nz + wz * nx  # tangent t = (−n_z, n_x)
+    f_el, f_damp = hertz_damped_force(delta, ddot, p[P_K], p[P_XI], meff)
+    fn = f_el + f_damp
+    z = friction_state_update(Z[slot], vt * h / p[P_Y])
+    Z[slot] = z
+    ft = -mu * fn * z
+    fx = fn * nx - ft * nz
+    fz = fn * nz + ft * nx
+    gen[0] += fx
+    gen[1] += fz
+    gen[2] += rx * fz - rz * fx
+    if top:
+        gen[3] -= fx
+        gen[4] -= fz
+    else:
+        acc[3] -= fx
+    acc[0] += f_el * delta / 2.5
+    acc[1] += f_damp * ddot
+    acc[2] += -ft * vt
+    return fn
+
+
+@njit(cache=True)
+def forces(p, q, v, Z, h, gen, acc, rimf, sep):
+    """Generalized contact forces at configuration q with velocities v.
+
+    Advances the friction states Z over a slip of v_t·h (h = 0 leaves them). Fills:
+    gen[5] slider Fx, Fz, moment and top-plate Fx, Fz [N, N·m]; acc as in :func:`_apply`;
+    rimf[4] total normal force on each rim [N]; sep[2] the smaller vertex separation from the
+    bottom and from the top dish [m]. Returns the largest penetration [m].
+    """
+    for i in range(5):
+        gen[i] = 0.0
+    for i in range(5):
+        acc[i] = 0.0
+    for i in range(N_RIMS):
+        rimf[i] = 0.0
+    R = p[P_R]
+    hb = p[P_HALF_B]
+    hs = p[P_HS]
+    hhe = p[P_HALF_HE]
+    rin = p[P_RIN]
+    tr = p[P_TR]
+    ztop = p[P_ZTOP]
+    xs, zs, th, xt, zt = q[0], q[1], q[2], q[3], q[4]
+    vsx, vsz, om, vtx, vtz = v[0], v[1], v[2], v[3], v[4]
+    c = math.cos(th)
+    s = math.sin(th)
+    ctz = zt + hs - R  # centre of the top dish (x_T, ctz); bottom dish centre (0, R)
+    dmax = 0.0
+    sep[0] = 1e9
+    sep[1] = 1e9
+    off_bottom = False
+    off_top = False
+    for j in range(4):
+        bx = hb if (j % 2 == 1) else -hb
+        bz = hhe if j >= 2 else -hhe
+        px = xs + c * bx - s * bz
+        pz = zs + s * bx + c * bz
+        is_top = j >= 2
+        if is_top:
+            cx, cz, vpx, vpz, meff = xt, ctz, vtx, vtz, p[P_MEFF_TOP]
+        else:
+            cx, cz, vpx, vpz, meff = 0.0, R, 0.0, 0.0, p[P_MEFF_BOT]
+        # vertex on the dish (slot j); the dish continues under the rim root
+        dx = cx - px
+        dz = cz - pz
+        d = math.sqrt(dx * dx + dz * dz)
+        delta = d - R
+        xl = px - cx
+        if abs(xl) <= rin + tr:
+            sep[1 if is_top else 0] = min(sep[1 if is_top else 0], -delta)
+            if delta > 0.0:
+                dmax = max(dmax, delta)
+                _apply(
+                    j,
+                    delta,
+                    dx / d,
+                    dz / d,
+                    px,
+                    pz,
+                    xs,
+                    zs,
+                    vsx,
+                    vsz,
+                    om,
+                    vpx,
+                    vpz,
+                    meff,
+                    p[P_MU],
+                    p,
+                    h,
+                    Z,
+                    gen,
+                    is_top,
+                    acc,
+                )
+            else:
+                Z[j] = 0.0
+        else:
+            Z[j] = 0.0
+            if is_top:
+                off_top = True
+            else:
+                off_bottom = True
+        # vertex against the rim it faces (slot 4 + j): inner face or rim top/bottom face
+        side = 1.0 if xl >= 0.0 else -1.0
+        u = side * xl - rin
+        if is_top:
+            w = pz - (zt + hs - ztop)
+        else:
+            w = ztop - pz
+        rim = (2 if is_top else 0) + (1 if side > 0 else 0)
+        if u > 0.0 and u < tr and w > 0.0:
+            if u <= w:
+                delta, nx, nz = u, -side, 0.0
+            else:
+                delta, nx, nz = w, 0.0, (-1.0 if is_top else 1.0)
+            dmax = max(dmax, delta)
+            rimf[rim] += _apply(
+                4 + j,
+                delta,
+                nx,
+                nz,
+                px,
+                pz,
+                xs,
+                zs,
+                vsx,
+                vsz,
+                om,
+                vpx,
+                vpz,
+                meff,
+                p[P_MU_RIM],
+                p,
+                h,
+                Z,
+                gen,
+                is_top,
+                acc,
+            )
+        else:
+            Z[4 + j] = 0.0
+    if off_bottom:
+        sep[0] = 1e9
+    if off_top:
+        sep[1] = 1e9
+    # rim corners against the slider's section (slots 8–11)
+    for r in range(N_RIMS):
+        is_top = r >= 2
+        side = 1.0 if (r % 2 == 1) else -1.0
+        if is_top:
+            kx, kz, vpx, vpz = xt + side * rin, zt + hs - ztop, vtx, vtz
+        else:
+            kx, kz, vpx, vpz = side * rin, ztop, 0.0, 0.0
+        dx = kx - xs
+        dz = kz - zs
+        qx = c * dx + s * dz  # corner in the slider's body frame
+        qz = -s * dx + c * dz
+        dside = hb - abs(qx)
+        if dside <= 0.0 or abs(qx) > hb or abs(qz) > hs:
+            Z[8 + r] = 0.0
+            continue
+        # depth below each face of the section: side (flat), bottom and top (spherical)
+        db = R - math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
+        dt_ = R - math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
+        if db <= 0.0 or dt_ <= 0.0:
+            Z[8 + r] = 0.0
+            continue
+        if dside <= db and dside <= dt_:
+            delta, nbx, nbz = dside, (1.0 if qx > 0 else -1.0), 0.0
+        elif db <= dt_:
+            ln = math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
+            delta, nbx, nbz = db, qx / ln, (qz + hs / 2 - R) / ln
+        else:
+            ln = math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
+            delta, nbx, nbz = dt_, qx / ln, (qz - hs / 2 + R) / ln
+        # outward body normal to global; the force on the slider points inward (−n_out)
+        nx = -(c * nbx - s * nbz)
+        nz = -(s * nbx + c * nbz)
+        meff = p[P_MEFF_TOP] if is_top else p[P_MEFF_BOT]
+        dmax = max(dmax, delta)
+        rimf[r] += _apply(
+            8 + r,
+            delta,
+            nx,
+            nz,
+            kx,
+            kz,
+            xs,
+            zs,
+            vsx,
+            vsz,
+            om,
+            vpx,
+            vpz,
+            meff,
+            p[P_MU_RIM],
+            p,
+            h,
+            Z,
+            gen,
+            is_top,
+            acc,
+        )
+    return dmax
+
+
+@njit(cache=True)
+def _failure(p, q):
+    """Physical failure code (0: none): the slider has escaped over a rim or overturned.
+
+    Only bottom vertices are tested against bottom rims and top vertices against top rims
+    (a tilted slider's upper corners legitimately overhang the bottom rim; reference §9).
+    """
+    xs, zs, th, xt, zt = q[0], q[1], q[2], q[3], q[4]
+    c = math.cos(th)
+    s = math.sin(th)
+    rin = p[P_RIN]
+    ztop = p[P_ZTOP]
+    hb = p[P_HALF_B]
+    hhe = p[P_HALF_HE]
+    for j in range(4):
+        bx = hb if (j % 2 == 1) else -hb
+        bz = hhe if j >= 2 else -hhe
+        px = xs + c * bx - s * bz
+        pz = zs + s * bx + c * bz
+        if j < 2:
+            if abs(px) > rin and pz > ztop:
+                return FAIL_BOTTOM_RIM
+        elif abs(px - xt) > rin and pz < zt + p[P_HS] - ztop:
+            return FAIL_TOP_RIM
+    if abs(xs) > rin or abs(xs - xt) > rin:
+        return FAIL_CENTROID
+    if abs(th) > 0.25 * math.pi:
+        return FAIL_OVERTURN
+    return 0
+
+
+@njit(cache=True)
+def _accelerations(p, gen, ag, a):
+    a[0] = gen[0] / p[P_MS] - ag
+    a[1] = gen[1] / p[P_MS] - p[P_G]
+    a[2] = gen[2] / p[P_JS]
+    a[3] = gen[3] / p[P_M] - ag
+    a[4] = gen[4] / p[P_M] - p[P_G]
+
+
+@njit(cache=True)
+def integrate(p, q0, ag_in, n_sub, h, n_steps, stop_at_failure, hist, events, summary):
+    """Advance the model over ``n_steps`` internal steps of size h.
+
+    ``ag_in`` is sampled every ``n_sub`` internal steps and interpolated linearly in between
+    (zero after its end). Histories are written every ``n_sub`` steps into ``hist``
+    (n_rec × N_CHANNELS); rim impact events into ``events`` (max_events × EVENT_FIELDS).
+    Fills ``summary`` (N_SUMMARY).
+    """
+    q = q0.copy()
+    v = np.zeros(5)
+    a = np.zeros(5)
+    Z = np.zeros(N_SLOTS)
+    gen = np.zeros(5)
+    acc = np.zeros(5)
+    rimf = np.zeros(N_RIMS)
+    sep = np.zeros(2)
+    in_contact = np.zeros(N_RIMS, dtype=np.bool_)
+    last_contact = np.full(N_RIMS, -1e9)
+    open_event = np.full(N_RIMS, -1)
+    n_in = ag_in.shape[0]
+    max_events = events.shape[0]
+    ms, js, mt, g = p[P_MS], p[P_JS], p[P_M], p[P_G]
+
+    forces(p, q, v, Z, 0.0, gen, acc, rimf, sep)
+    _accelerations(p, gen, ag_in[0], a)
+    e_el0 = acc[0]
+    zs0, zt0 = q0[1], q0[4]
+    e_in = 0.0
+    e_scale = mt * g * 1e-3  # floor: the work of lifting the supported mass by 1 mm
+    e_fric = 0.0
+    e_imp = 0.0
+    max_uplift = 0.0
+    max_rot = 0.0
+    max_pen = 0.0
+    max_rimf = 0.0
+    n_events = 0
+    n_rec = 0
+    status = STATUS_OK
+    fail_code = 0
+    fail_time = -1.0
+    ag_old = ag_in[0]
+    shear = acc[3]
+    step = 0
+    for step in range(n_steps + 1):
+        t = step * h
+        if step % n_sub == 0 and n_rec < hist.shape[0]:
+            e_kin = 0.5 * (
+                ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2 + mt * (v[3] ** 2 + v[4] ** 2)
+            )
+            e_pot = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0) + acc[0] - e_el0
+            hist[n_rec, H_XT] = q[3]
+            hist[n_rec, H_ZT] = q[4] - zt0
+            hist[n_rec, H_XS] = q[0]
+            hist[n_rec, H_ZS] = q[1] - zs0
+            hist[n_rec, H_TH] = q[2]
+            hist[n_rec, H_VT] = v[3]
+            hist[n_rec, H_SHEAR] = shear
+            hist[n_rec, H_RIMF] = rimf[0] + rimf[1] + rimf[2] + rimf[3]
+            hist[n_rec, H_EIN] = e_in
+            hist[n_rec, H_EKIN] = e_kin
+            hist[n_rec, H_EPOT] = e_pot
+            hist[n_rec, H_EFRIC] = e_fric
+            hist[n_rec, H_EIMP] = e_imp
+            n_rec += 1
+            # an explicit scheme past its stability limit creates energy: report, not hide
+            e_scale = max(e_scale, abs(e_in))
+            residual = e_in - (e_kin + e_pot + e_fric + e_imp)
+            if status == STATUS_OK and abs(residual) > ENERGY_TOLERANCE * e_scale:
+                status, fail_code, fail_time = STATUS_NUMERICAL, NUM_ENERGY, t
+        if step == n_steps or status != STATUS_OK:
+            break
+        # ground acceleration at t + h, linear between input samples
+        k_in = (step + 1) // n_sub
+        frac = ((step + 1) % n_sub) / n_sub
+        ag_new = 0.0
+        if k_in < n_in - 1:
+            ag_new = ag_in[k_in] + frac * (ag_in[k_in + 1] - ag_in[k_in])
+        elif k_in == n_in - 1 and frac == 0.0:
+            ag_new = ag_in[k_in]
+        # kick – drift
+        for i in range(5):
+            v[i] += 0.5 * h * a[i]
+            q[i] += h * v[i]
+        # input work of the inertial loads over the step, half-step velocities
+        e_in -= 0.5 * (ag_old + ag_new) * (ms * v[0] + mt * v[3]) * h
+        dmax = forces(p, q, v, Z, h, gen, acc, rimf, sep)
+        e_imp += acc[1] * h
+        e_fric += acc[2] * h
+        shear = acc[3]
+        _accelerations(p, gen, ag_new, a)
+        for i in range(5):
+            v[i] += 0.5 * h * a[i]
+        ag_old = ag_new
+        # outputs
+        t = (step + 1) * h
+        max_pen = max(max_pen, dmax)
+        max_rot = max(max_rot, abs(q[2]))
+        for k in range(2):
+            if sep[k] < 1e8:  # both vertices over the plate
+                max_uplift = max(max_uplift, sep[k])
+        for r in range(N_RIMS):
+            f = rimf[r]
+            if f > 0.0:
+                if not in_contact[r]:
+                    in_contact[r] = True
+                    if t - last_contact[r] > p[P_MERGE] and n_events < max_events:
+                        events[n_events, 0] = t
+                        events[n_events, 1] = r
+                        events[n_events, 2] = v[3]
+                        events[n_events, 3] = 0.0
+                        events[n_events, 4] = 0.0
+                        open_event[r] = n_events
+                        n_events += 1
+                e = open_event[r]
+                if e >= 0:
+                    events[e, 3] = max(events[e, 3], f)
+                    events[e, 4] = t - events[e, 0]
+                last_contact[r] = t
+                max_rimf = max(max_rimf, f)
+            else:
+                in_contact[r] = False
+        # numerical and physical failure
+        bad = False
+        for i in range(5):
+            if not math.isfinite(q[i]) or not math.isfinite(v[i]):
+                bad = True
+        if bad:
+            status, fail_code, fail_time = STATUS_NUMERICAL, NUM_NAN, t
+        elif dmax > p[P_DMAX]:
+            status, fail_code, fail_time = STATUS_NUMERICAL, NUM_PENETRATION, t
+        elif fail_code == 0:
+            code = _failure(p, q)
+            if code != 0:
+                fail_code, fail_time = code, t
+                if stop_at_failure:
+                    status = STATUS_FAILED
+    if status == STATUS_OK and fail_code != 0:
+        status = STATUS_FAILED
+    e_kin = 0.5 * (ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2 + mt * (v[3] ** 2 + v[4] ** 2))
+    summary[S_STATUS] = status
+    summary[S_FAIL_TIME] = fail_time
+    summary[S_FAIL_CODE] = fail_code
+    summary[S_N_EVENTS] = n_events
+    summary[S_MAX_UPLIFT] = max_uplift
+    summary[S_MAX_ROT] = max_rot
+    summary[S_MAX_PEN] = max_pen
+    summary[S_MAX_RIMF] = max_rimf
+    summary[S_EIN] = e_in
+    summary[S_EKIN] = e_kin
+    summary[S_EPOT] = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0) + acc[0] - e_el0
+    summary[S_EFRIC] = e_fric
+    summary[S_EIMP] = e_imp
+    summary[S_N_REC] = n_rec
+    summary[S_STEPS] = step

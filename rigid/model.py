@@ -1,0 +1,385 @@
+"""Rigid-body model of the DFP bearing: :func:`simulate` and its result (paper §2)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _kernel as K
+from .bearing import DFPBearing, G
+
+#: Default largest internal step [s]. Chosen by the step-convergence study in
+#: ``tests/test_model_convergence.py`` and BENCHMARKS.md: halving it changes the maximum impact
+#: velocity by < 2 % and the failure verdicts of the pulse tests not at all, and it is 3× below
+#: the explicit stability limit of the stiffest contact mode at 60 MPa.
+DEFAULT_MAX_STEP = 2e-5
+
+RIM_NAMES = ("bottom -x", "bottom +x", "top -x", "top +x")
+_FAILURE_DETAIL = {
+    K.FAIL_BOTTOM_RIM: "a bottom vertex cleared a bottom rim",
+    K.FAIL_TOP_RIM: "a top vertex cleared a top rim",
+    K.FAIL_CENTROID: "the slider's centroid passed a rim",
+    K.FAIL_OVERTURN: "the slider overturned (|θ| > 45°)",
+    K.NUM_NAN: "the state became non-finite",
+    K.NUM_PENETRATION: "a contact penetration exceeded the rim thickness",
+    K.NUM_ENERGY: "the energy balance failed to close within 5 % of the input energy",
+}
+
+
+class NumericalInstabilityError(RuntimeError):
+    """The integration went unstable (a numerical, not a physical, failure)."""
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One rim impact: the first contact of a rim after it was free for the merge time.
+
+    Attributes
+    ----------
+    time : float [s]
+    rim : str
+        ``"bottom -x"``, ``"bottom +x"``, ``"top -x"`` or ``"top +x"``.
+    velocity : float [m/s]
+        Horizontal velocity of the top plate relative to the bottom plate at first contact.
+    peak_force : float [N]
+        Largest total normal force on that rim during the impact.
+    duration : float [s]
+        Time from first contact to the last contact of the (merged) impact.
+    """
+
+    time: float
+    rim: str
+    velocity: float
+    peak_force: float
+    duration: float
+
+
+@dataclass(frozen=True)
+class EnergyBalance:
+    """Energy histories [J] at the result's sampling; all start at zero.
+
+    ``potential`` is gravity plus the contacts' elastic energy; ``friction`` and ``impact`` are
+    the energies dissipated by friction and by the contact dampers; ``input`` is the work of the
+    inertial loads −m·a_g on the bodies' motions relative to the ground.
+    """
+
+    input: np.ndarray
+    kinetic: np.ndarray
+    potential: np.ndarray
+    friction: np.ndarray
+    impact: np.ndarray
+
+    @property
+    def residual(self) -> np.ndarray:
+        """input − (kinetic + potential + friction + impact) [J]; zero for exact integration."""
+        return self.input - (self.kinetic + self.potential + self.friction + self.impact)
+
+    @property
+    def relative_error(self) -> float:
+        """Largest |residual| over the largest input energy [-]."""
+        scale = np.max(np.abs(self.input))
+        return float(np.max(np.abs(self.residual)) / scale) if scale > 0 else 0.0
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Response of the rigid-body model. Histories are sampled at ``time``.
+
+    Attributes
+    ----------
+    time : ndarray [s]
+    displacement : ndarray [m]
+        Horizontal displacement of the top plate relative to the bottom plate.
+    top_plate_rise : ndarray [m]
+        Vertical displacement of the top plate from its static position.
+    slider_displacement, slider_rise : ndarray [m]
+        Slider centroid horizontal position and vertical displacement from rest.
+    slider_rotation : ndarray [rad]
+        Counter-clockwise positive.
+    velocity : ndarray [m/s]
+        Horizontal velocity of the top plate relative to the bottom plate.
+    base_shear : ndarray [N]
+        Horizontal force of the bearing on the bottom plate, positive along +x.
+    rim_force : ndarray [N]
+        Sum of the normal forces on all four rims.
+    energy : EnergyBalance
+    impacts : tuple of Impact
+    failed : bool
+        The slider escaped over a rim or overturned (physical failure).
+    failure_time : float or None [s]
+    failure_mode : {"uplift", None}
+        The rigid model can only fail by uplift (it cannot yield).
+    failure_detail : str or None
+    numerical_failure : bool
+        The integration went unstable; the response after ``failure_time`` is missing.
+    max_uplift : float [m]
+        Largest separation of a slider face from its dish, both vertices clear.
+    max_rotation : float [rad]
+    max_penetration : float [m]
+    max_rim_force : float [N]
+    internal_step : float [s]
+    steps : int
+    bearing : DFPBearing
+    """
+
+    time: np.ndarray
+    displacement: np.ndarray
+    top_plate_rise: np.ndarray
+    slider_displacement: np.ndarray
+    slider_rise: np.ndarray
+    slider_rotation: np.ndarray
+    velocity: np.ndarray
+    base_shear: np.ndarray
+    rim_force: np.ndarray
+    energy: EnergyBalance
+    impacts: tuple
+    failed: bool
+    failure_time: float | None
+    failure_mode: str | None
+    failure_detail: str | None
+    numerical_failure: bool
+    max_uplift: float
+    max_rotation: float
+    max_penetration: float
+    max_rim_force: float
+    internal_step: float
+    steps: int
+    bearing: DFPBearing
+
+    @property
+    def max_impact_velocity(self) -> float:
+        """Largest |velocity| over all impacts [m/s]; 0 when there was no impact."""
+        return max((abs(i.velocity) for i in self.impacts), default=0.0)
+
+    @property
+    def max_displacement(self) -> float:
+        """Largest |displacement| [m]."""
+        return float(np.max(np.abs(self.displacement)))
+
+    def summary(self) -> str:
+        """One paragraph for the console."""
+        lines = [
+            f"{len(self.impacts)} rim impact(s); max impact velocity "
+            f"{self.max_impact_velocity:.3f} m/s; max displacement {self.max_displacement:.3f} m; "
+            f"max uplift {self.max_uplift * 1e3:.1f} mm; max slider rotation "
+            f"{math.degrees(self.max_rotation):.2f}°"
+        ]
+        for i in self.impacts:
+            lines.append(
+                f"  t = {i.time:7.3f} s  {i.rim:9s}  v = {i.velocity:+.3f} m/s  "
+                f"peak force {i.peak_force / 1e6:.2f} MN"
+            )
+        if self.failed:
+            lines.append(
+                f"FAILED by {self.failure_mode} at t = {self.failure_time:.3f} s: "
+                f"{self.failure_detail}"
+            )
+        elif self.numerical_failure:
+            lines.append(
+                f"NUMERICAL FAILURE at t = {self.failure_time:.3f} s: {self.failure_detail}"
+            )
+        else:
+            lines.append("no failure")
+        return "\n".join(lines)
+
+
+def kernel_parameters(bearing: DFPBearing) -> np.ndarray:
+    """Pack a bearing into the kernel's parameter vector (SI)."""
+    p = np.zeros(K.N_PARAMS)
+    ms, m = bearing.slider_mass, bearing.supported_mass
+    p[K.P_R] = bearing.radius
+    p[K.P_HALF_B] = bearing.slider_diameter / 2
+    p[K.P_HS] = bearing.slider_height
+    p[K.P_HALF_HE] = bearing.edge_height / 2
+    p[K.P_RIN] = bearing.rim_radius
+    p[K.P_TR] = bearing.rim_thickness
+    p[K.P_ZTOP] = bearing.rim_top
+    p[K.P_K] = bearing.contact_stiffness
+    p[K.P_XI] = bearing.damping_ratio
+    p[K.P_MU] = bearing.friction
+    p[K.P_MU_RIM] = bearing.rim_friction
+    p[K.P_Y] = bearing.friction_yield_slip
+    p[K.P_MS] = ms
+    p[K.P_JS] = bearing.slider_inertia
+    p[K.P_M] = m
+    p[K.P_G] = G
+    # m1·m2/(m1 + m2) of paper Eq. 3 for the slider against a plate: the bottom plate is
+    # the rigid ground, the top plate has mass M (same for the dish and the rim contacts)
+    p[K.P_MEFF_BOT] = ms
+    p[K.P_MEFF_TOP] = ms * m / (ms + m)
+    # a penetration beyond the rim thickness means the contact geometry no longer holds
+    p[K.P_DMAX] = bearing.rim_thickness
+    return p
+
+
+def _static_penetration(load: float, bearing: DFPBearing) -> float:
+    """Radial penetration δ of two vertices carrying ``load`` [N]: 2kδ^1.5·cos α = load."""
+    r, half_b, k = bearing.radius, bearing.slider_diameter / 2, bearing.contact_stiffness
+    delta = (load / (2 * k)) ** (2 / 3)
+    for _ in range(20):  # fixed point; cos α changes by < 1e-6 between iterations
+        cos_a = math.sqrt(1 - (half_b / (r + delta)) ** 2)
+        delta = (load / (2 * k * cos_a)) ** (2 / 3)
+    return delta
+
+
+def static_state(bearing: DFPBearing) -> np.ndarray:
+    """Exact static equilibrium under gravity: (x_S, z_S, θ, x_T, z_T) [m, m, rad, m, m]."""
+    r, half_b = bearing.radius, bearing.slider_diameter / 2
+    ms, m = bearing.slider_mass, bearing.supported_mass
+    d_bot = _static_penetration((m + ms) * G, bearing)
+    d_top = _static_penetration(m * G, bearing)
+    z_vertex_bot = r - math.sqrt((r + d_bot) ** 2 - half_b**2)
+    z_s = z_vertex_bot + bearing.edge_height / 2
+    z_vertex_top = z_s + bearing.edge_height / 2
+    z_centre_top = z_vertex_top - math.sqrt((r + d_top) ** 2 - half_b**2)
+    z_t = z_centre_top - bearing.slider_height + r
+    return np.array([0.0, z_s, 0.0, 0.0, z_t])
+
+
+def _validate_input(acceleration, dt) -> np.ndarray:
+    a = np.asarray(acceleration, dtype=float)
+    if a.ndim != 1:
+        raise ValueError(f"acceleration must be one-dimensional, got shape {a.shape}")
+    if a.size < 2:
+        raise ValueError("acceleration must have at least two samples")
+    if not np.all(np.isfinite(a)):
+        bad = int(np.flatnonzero(~np.isfinite(a))[0])
+        raise ValueError(f"acceleration has a non-finite value at sample {bad}")
+    if not (isinstance(dt, (int, float, np.floating)) and math.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
+    return np.ascontiguousarray(a)
+
+
+def simulate(
+    bearing: DFPBearing,
+    acceleration,
+    dt: float,
+    *,
+    duration: float | None = None,
+    max_step: float = DEFAULT_MAX_STEP,
+    record_every: int = 1,
+    stop_at_failure: bool = True,
+    impact_merge_time: float = 0.05,
+    max_impacts: int = 1000,
+    on_instability: str = "raise",
+) -> SimulationResult:
+    """Run the rigid-body DFP model on a horizontal ground acceleration.
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    acceleration : array_like [m/s²]
+        Ground acceleration sampled every ``dt``; linear between samples.
+    dt : float [s]
+        Sampling interval of ``acceleration`` (and of the returned histories).
+    duration : float [s], optional
+        Simulated time; default the record's length. Beyond the record the ground is at rest.
+    max_step : float [s]
+        Largest internal step; the step used is dt/n with the smallest integer n that keeps
+        it ≤ ``max_step``. Accuracy does not depend on ``dt``.
+    record_every : int
+        Keep every n-th sample of the histories (decimation; impacts, maxima and failure are
+        found at every internal step regardless).
+    stop_at_failure : bool
+        Stop at physical failure (default). Otherwise go on until the end or instability.
+    impact_merge_time : float [s]
+        Contacts of a rim that reopen within this time of its last contact belong to the same
+        impact (the light slider chatters against the rim on the ms scale).
+    max_impacts : int
+        Capacity of the impact list.
+    on_instability : {"raise", "report", "refine"}
+        What to do when the integration goes unstable (non-finite state, penetration beyond
+        the rim thickness, or an energy balance off by more than 5 % of the input): raise
+        :class:`NumericalInstabilityError`; return a result with ``numerical_failure`` set
+        (and a warning); or rerun with the step halved up to three times, then raise.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    if not isinstance(bearing, DFPBearing):
+        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
+    a = _validate_input(acceleration, dt)
+    if not (math.isfinite(max_step) and max_step > 0):
+        raise ValueError(f"max_step must be a positive number of seconds, got {max_step!r}")
+    if int(record_every) != record_every or record_every < 1:
+        raise ValueError(f"record_every must be a positive integer, got {record_every!r}")
+    if on_instability not in ("raise", "report", "refine"):
+        raise ValueError(
+            f"on_instability must be 'raise', 'report' or 'refine', got {on_instability!r}"
+        )
+    if int(max_impacts) != max_impacts or max_impacts < 1:
+        raise ValueError(f"max_impacts must be a positive integer, got {max_impacts!r}")
+    if impact_merge_time < 0:
+        raise ValueError(f"impact_merge_time must be ≥ 0 s, got {impact_merge_time!r}")
+    record_duration = (a.size - 1) * dt
+    duration = record_duration if duration is None else float(duration)
+    if not (math.isfinite(duration) and duration > 0):
+        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
+
+    p = kernel_parameters(bearing)
+    p[K.P_MERGE] = impact_merge_time
+    n_samples = math.floor(duration / dt + 1e-9)
+    hist = np.empty((n_samples + 1, K.N_CHANNELS))
+    events = np.zeros((int(max_impacts), K.EVENT_FIELDS))
+    summary = np.zeros(K.N_SUMMARY)
+    for attempt in range(4 if on_instability == "refine" else 1):
+        n_sub = max(1, math.ceil(dt / (max_step / 2**attempt) - 1e-9))
+        h = dt / n_sub
+        K.integrate(p, static_state(bearing), a, n_sub, h, n_samples * n_sub,
+                    bool(stop_at_failure), hist, events, summary)
+        if int(summary[K.S_STATUS]) != K.STATUS_NUMERICAL:
+            break
+
+    status = int(summary[K.S_STATUS])
+    code = int(summary[K.S_FAIL_CODE])
+    fail_time = float(summary[K.S_FAIL_TIME])
+    numerical = status == K.STATUS_NUMERICAL
+    if numerical:
+        message = f"{_FAILURE_DETAIL[code]} at t = {fail_time:.4f} s (internal step {h:.3g} s)"
+        if on_instability != "report":
+            raise NumericalInstabilityError(message)
+        warnings.warn(message, RuntimeWarning, stacklevel=2)
+    physical = (not numerical) and code in (
+        K.FAIL_BOTTOM_RIM,
+        K.FAIL_TOP_RIM,
+        K.FAIL_CENTROID,
+        K.FAIL_OVERTURN,
+    )
+    n_rec = int(summary[K.S_N_REC])
+    hs = hist[:n_rec:record_every]
+    n_events = int(summary[K.S_N_EVENTS])
+    impacts = tuple(
+        Impact(float(e[0]), RIM_NAMES[int(e[1])], float(e[2]), float(e[3]), float(e[4]))
+        for e in events[:n_events]
+    )
+    return SimulationResult(
+        time=np.arange(n_rec)[::record_every] * dt,
+        displacement=hs[:, K.H_XT].copy(),
+        top_plate_rise=hs[:, K.H_ZT].copy(),
+        slider_displacement=hs[:, K.H_XS].copy(),
+        slider_rise=hs[:, K.H_ZS].copy(),
+        slider_rotation=hs[:, K.H_TH].copy(),
+        velocity=hs[:, K.H_VT].copy(),
+        base_shear=hs[:, K.H_SHEAR].copy(),
+        rim_force=hs[:, K.H_RIMF].copy(),
+        energy=EnergyBalance(
+            *(hs[:, c].copy() for c in (K.H_EIN, K.H_EKIN, K.H_EPOT, K.H_EFRIC, K.H_EIMP))
+        ),
+        impacts=impacts,
+        failed=physical,
+        failure_time=fail_time if (physical or numerical) else None,
+        failure_mode="uplift" if physical else None,
+        failure_detail=_FAILURE_DETAIL.get(code) if code else None,
+        numerical_failure=numerical,
+        max_uplift=float(summary[K.S_MAX_UPLIFT]),
+        max_rotation=float(summary[K.S_MAX_ROT]),
+        max_penetration=float(summary[K.S_MAX_PEN]),
+        max_rim_force=float(summary[K.S_MAX_RIMF]),
+        internal_step=h,
+        steps=int(summary[K.S_STEPS]),
+        bearing=bearing,
+    )
