@@ -304,7 +304,7 @@ def _parse_block(path, lines: list[str], first: int, expected: int | None, per_l
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?"
 _NGA_WEST2 = re.compile(rf"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*({_NUM})", re.IGNORECASE)
 _NGA_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+({_NUM})\s+.*NPTS\s*,\s*DT", re.IGNORECASE)
-_UNITS_LINE = re.compile(r"UNITS\s+OF\s+([A-Za-z/^*0-9 ]+?)\s*$", re.IGNORECASE)
+_UNITS_LINE = re.compile(r"UNITS\s+OF\s+([A-Za-z][A-Za-z/^*0-9]*)", re.IGNORECASE)
 
 
 def read_peer_at2(path, name: str | None = None) -> GroundMotion:
@@ -674,7 +674,7 @@ def detect_format(path) -> str:
     {"peer", "knet", "jma", "plain"}
     """
     head = "\n".join(_read_lines(path)[:20]).upper()
-    if head.startswith("PEER") or ("NPTS" in head and "DT" in head):
+    if head.startswith("PEER") or "UNITS OF" in head or ("NPTS" in head and "DT" in head):
         return "peer"
     if "SCALE FACTOR" in head and "SAMPLING FREQ" in head:
         return "knet"

@@ -174,9 +174,8 @@ def pseudo_acceleration(acceleration, dt: float, periods, damping: float = 0.05)
     >>> float(rigid.pseudo_acceleration(a, 0.001, [1.0])[0])  # signals.md §2.2: 2.0834
     2.083...
     """
-    per = np.atleast_1d(np.asarray(periods, dtype=float))
-    omega2 = (2.0 * np.pi / per) ** 2
-    return spectral_displacement(acceleration, dt, per, damping) * omega2
+    sd = spectral_displacement(acceleration, dt, periods, damping)
+    return sd * (2.0 * np.pi / np.atleast_1d(np.asarray(periods, dtype=float))) ** 2
 
 
 def scale_factor(
