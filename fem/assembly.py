@@ -3,16 +3,17 @@ r"""Plane-strain bilinear quadrilaterals (Q1) with the B-bar (mean dilatation) s
 The symmetric gradient of the vector Q1 field is written as a Mandel 4-vector
 ``[ε_xx, ε_yy, ε_zz, √2 ε_xy]`` (ε_zz = 0 in plane strain) through a strain–displacement array
 ``B[i, a, e, q]`` (component i, local basis function a, element e, quadrature point q). With
-B-bar, the volumetric part is replaced by its element average (Hughes 1980; Hughes 2000, §4.5;
-de Souza Neto, Perić & Owen 2008, §15.2)::
+B-bar, the volumetric part is replaced by its element average (Hughes 1980, IJNME 15:1413;
+Hughes 2000, *The Finite Element Method*, §4.5)::
 
     ε̄ = ε − (θ − θ̄)/3 · 1,   θ = tr ε = div u,   θ̄ = ∫_e θ dx / ∫_e dx,
 
 so that ε̄_zz = (θ̄ − θ)/3 is not zero point-wise but averages to zero over each element. This
 removes volumetric locking under incompressible plastic flow (reference fem.md §3.2).
 
-The element matrices are built with ``einsum`` from ``B`` computed once from a scikit-fem
-:class:`skfem.CellBasis`, and scattered into a CSR pattern computed once (fem.md §2.5).
+The element matrices are built with batched matrix products from ``B`` (computed once from a
+scikit-fem :class:`skfem.CellBasis`) and scattered into a CSR pattern computed once
+(reference fem.md §2.5).
 """
 
 from __future__ import annotations
@@ -85,6 +86,13 @@ class PlaneStrainQ1:
         self.dx = self.basis.dx
         self.element_dofs = self.basis.element_dofs  # (8, nelems)
         self.ndofs = self.basis.N
+        # Batched-matmul layout for the tangent: B as (nel, nqp, 4, 8), and Bᵀ·dx stacked over
+        # the quadrature points as (nel, 8, nqp·4), so ke = (Bᵀdx) @ (D B) is one matmul.
+        self._Bt = np.ascontiguousarray(self.B.transpose(2, 3, 0, 1))
+        nel = self._Bt.shape[0]
+        weighted = self._Bt * self.dx[:, :, None, None]
+        weighted = weighted.reshape(nel, -1, self._Bt.shape[-1])
+        self._BwT = np.ascontiguousarray(weighted.transpose(0, 2, 1))
         self._pattern()
 
     @property
@@ -142,12 +150,11 @@ class PlaneStrainQ1:
         -------
         scipy.sparse.csr_matrix, shape (ndofs, ndofs) [N/m²]
         """
-        if tangent.ndim == 2:
-            DB = np.einsum("ij,jbeq->ibeq", tangent, self.B)
-        else:
-            DB = np.einsum("ijeq,jbeq->ibeq", tangent, self.B)
-        ke = np.einsum("iaeq,ibeq,eq->abe", self.B, DB, self.dx)
-        data = np.bincount(self._scatter, ke.ravel(), minlength=self._nnz)
+        D = tangent if tangent.ndim == 2 else tangent.transpose(2, 3, 0, 1)
+        DB = np.matmul(D, self._Bt)  # (nel, nqp, 4, 8)
+        nel = DB.shape[0]
+        ke = np.matmul(self._BwT, DB.reshape(nel, -1, DB.shape[-1]))  # (nel, 8, 8)
+        data = np.bincount(self._scatter, ke.transpose(1, 2, 0).ravel(), minlength=self._nnz)
         return sp.csr_matrix(
             (data, self._indices, self._indptr), shape=(self.ndofs, self.ndofs)
         )

@@ -1,8 +1,9 @@
 r"""Plane-strain J2 plasticity with capped linear isotropic hardening.
 
-Radial return (Wilkins 1964; Simo & Hughes 1998, Box 3.2) with the consistent (algorithmic)
-tangent (Simo & Taylor 1985; de Souza Neto, Perić & Owen 2008, Eq. 7.120), vectorised over
-quadrature points.
+Radial return (Wilkins 1964; Simo & Hughes 1998, *Computational Inelasticity*, Box 3.2) with
+the consistent (algorithmic) tangent (Simo & Taylor 1985, CMAME 48:101; de Souza Neto, Perić &
+Owen 2008, *Computational Methods for Plasticity*, Boxes 7.3–7.4), vectorised over quadrature
+points.
 
 Tensors are Mandel 4-vectors ``[xx, yy, zz, √2·xy]`` (components first, then any trailing
 shape such as ``(nelems, nqp)``), so that ``a : b = a · b`` and the tangent is a symmetric
@@ -244,7 +245,7 @@ def return_map(
     plastic = f_trial > 0.0
 
     # Plastic corrector: the consistency condition q_tr − 3GΔp = σ_y(p_n + Δp) is linear on
-    # each branch of the capped law (Box 3.2, step 2; de Souza Neto et al. 2008, Eq. 7.91).
+    # each branch of the capped law (Box 3.2, step 2; de Souza Neto et al. 2008, Box 7.3).
     # Hardening branch first; if its root passes the kink p_u, the root lies on the flat branch.
     dp_hard = np.where(plastic, f_trial, 0.0) / (3.0 * G + H)
     on_flat = plastic & (p_n + dp_hard > p_u)
@@ -259,7 +260,7 @@ def return_map(
     stress = s_trial - 2.0 * G * d_eps_p
     stress[:3] += K * volumetric
 
-    # Consistent tangent (de Souza Neto et al. 2008, Eq. 7.120):
+    # Consistent tangent (Simo & Taylor 1985; de Souza Neto et al. 2008, Box 7.4):
     # D = K 1⊗1 + 2G(1 − 3GΔp/q_tr) P_dev + 6G²(Δp/q_tr − 1/(3G + H_alg)) N̂⊗N̂.
     safe_q = np.where(plastic, q_trial, 1.0)
     ratio = np.where(plastic, dp / safe_q, 0.0)

@@ -263,7 +263,7 @@ def test_consistent_tangent_matches_finite_differences(material):
         assert (p_new > material.ultimate_plastic_strain).sum() > 10
         assert (res.plastic & (p_new < material.ultimate_plastic_strain)).sum() > 10
     assert err[same].max() < 1e-6
-    # Algorithmic tangent of associative J2 radial return is symmetric (Simo & Hughes, §3.3).
+    # The algorithmic tangent of associative J2 radial return is symmetric.
     asym = np.abs(res.tangent - res.tangent.transpose(1, 0, 2)).max()
     assert asym < 1e-12 * material.youngs_modulus
 
@@ -303,7 +303,7 @@ def nl1_return_map(material, substeps=NL1_SUBSTEPS):
 def nl1_continuum(material, substeps=10000):
     """Independent algorithm: explicit (forward Euler) integration of the *continuum*
     elastoplastic rate equations dσ = C_ep dε, with C_ep = C − 6G²/(3G + H) N⊗N on loading
-    (Simo & Hughes 1998, Eq. 2.2.23 in 3-D form), no return map, no consistency iteration."""
+    (the classical continuum modulus, e.g. Simo & Hughes 1998, Ch. 2), no return map."""
     G, H = material.shear_modulus, material.plastic_modulus
     C = material.elastic_tangent()
     sig = np.zeros(4)
