@@ -248,3 +248,20 @@ def test_collapse_pressure():
     assert abs(pressures[-1] / pressures[-2] - 1) < 1e-4
     # The whole wall has yielded at collapse.
     assert (state.eq_plastic_strain > 0).all()
+
+
+def test_no_equilibrium_above_collapse_is_reported():
+    """Under force control, 1.05 p_L has no static solution for a perfectly plastic wall: the
+    solver must say so (``converged`` False after ``max_iter``) instead of returning an iterate,
+    and the caller's committed history must be untouched (it is only replaced on convergence).
+    At 0.95 p_L, on the same path, it converges."""
+    cyl = Cylinder(24, 12)
+    (_, u, state, _), = pressure_path(cyl, [0.95 * P_L])
+    before = [a.copy() for a in state]
+    res = solve_increment(
+        cyl.fe, PERFECT, state, u, 1.05 * P_L * cyl.unit_pressure, cyl.symmetry, max_iter=30
+    )
+    assert not res.converged
+    assert res.iterations == 30 or not np.isfinite(res.residuals[-1])
+    for a, b in zip(state, before, strict=True):
+        assert np.array_equal(a, b)
