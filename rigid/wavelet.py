@@ -173,7 +173,11 @@ def wavelet_transform(x, dt: float, periods, kind: str, source: str = "accelerat
     """Unweighted CWT  W(s, ξ) = ∫ x(t) ψ((t − ξ)/s) dt  at every sample ξ = t_n (paper Eq. 7).
 
     Multiply row i by w(s_i) for the weighted transform C. Computed by FFT with the
-    wavelet's analytic spectrum and zero padding of 3·s on the right (no wrap-around).
+    wavelet's analytic spectrum, padded so nothing wraps around. Outside the record the
+    ground is at rest before the first sample and, after the last, keeps its final value
+    on velocity (a velocity record need not return to zero; padding it with zeros would
+    add a step that the velocity wavelets, odd or even, pick up at long periods) and zero
+    on acceleration.
 
     Parameters
     ----------
@@ -203,12 +207,16 @@ def wavelet_transform(x, dt: float, periods, kind: str, source: str = "accelerat
     chunk = 16
     for start in range(0, scales.size, chunk):
         idx = order[start : start + chunk]
-        pad = math.ceil(_SUPPORT * scales[idx].max() / dt) + 1
-        nfft = next_fast_len(n + pad, real=True)
+        reach = math.ceil(_SUPPORT * scales[idx].max() / dt) + 1
+        nfft = next_fast_len(n + 2 * reach, real=True)
+        padded = np.zeros(nfft)
+        padded[:n] = x
+        if source == "velocity":  # hold the last value for half the pad, then rest
+            padded[n : n + (nfft - n) // 2] = x[-1]
         f = np.fft.rfftfreq(nfft, dt)
         band = int(np.searchsorted(f, _BAND_LIMIT / scales[idx].min())) + 1
         phase, _ = _wavelet_spectrum(1.0, kind, source)
-        spec_x = rfft(x, nfft)[:band] * np.conj(phase)
+        spec_x = rfft(padded)[:band] * np.conj(phase)
         s = scales[idx, None]
         # ψ(t/s) ↔ s·ψ̂(s f); correlation = inverse transform of X·conj(Ĥ); the 1/dt of the
         # discrete spectrum cancels the dt of the integral.
@@ -276,32 +284,82 @@ def _parabola_offset(y0: float, y1: float, y2: float) -> float:
 
 
 def _refine(mag, weights, r: int, c: int, periods, dt: float):
-    """Sub-grid (period, time) of a maximum of w(s)·|W| by parabolas in ln s and in ξ."""
+    """Sub-grid (period, time) of a maximum of w(s)·|W| by parabolas in ln s and in ξ.
+
+    The parabolas are fitted to ln|W|: for a Ricker pulse ln|W| is even about the peak in
+    ln s to third order (signals.md §3.4's profile r^(n+1−p)/(1 + r²)^(n+½) at p = ½), so
+    the vertex is accurate to O(h⁴) rather than O(h²) on a grid of step h.
+    """
     nrow, ncol = mag.shape
+    tiny = np.finfo(float).tiny
     log_s = math.log(periods[r])
     if 0 < r < nrow - 1:
-        d = _parabola_offset(*(weights[r - 1 : r + 2] * mag[r - 1 : r + 2, c]))
-        log_s += d * (math.log(periods[r + 1]) - math.log(periods[r - 1])) / 2.0
+        y = np.log(np.maximum(weights[r - 1 : r + 2] * mag[r - 1 : r + 2, c], tiny))
+        log_s += _parabola_offset(*y) * (math.log(periods[r + 1]) - math.log(periods[r - 1])) / 2
     t0 = c * dt
     if 0 < c < ncol - 1:
-        t0 += _parabola_offset(*mag[r, c - 1 : c + 2]) * dt
+        t0 += _parabola_offset(*np.log(np.maximum(mag[r, c - 1 : c + 2], tiny))) * dt
     return math.exp(log_s), t0
 
 
+def _match(x, t, dt, kind, source, p, period, t0):
+    """s^(½−p)·|⟨x, T⟩|/‖T‖ with T the sampled pulse template in the source's domain.
+
+    Equal to the weighted coefficient w(s)·|C| up to a constant and O(dt²) (‖T‖² ≈ s‖ψ‖²),
+    but built from the very templates the amplitude fit uses (on velocity, the trapezoidal
+    integral of the sampled pulse), so with p = ½ a sampled pulse maximises it exactly
+    (Cauchy–Schwarz). Evaluated on ±3.5·s around t0.
+    """
+    lo = max(0, math.floor((t0 - 3.5 * period) / dt))
+    hi = min(x.size, math.ceil((t0 + 3.5 * period) / dt) + 1)
+    template = ricker(t[lo:hi], 1.0, period, kind, t0=t0)
+    if source == "velocity":
+        template = integrate(template, dt)
+    norm = math.sqrt(float(template @ template))
+    if norm == 0.0:
+        return 0.0
+    return period ** (0.5 - p) * abs(float(x[lo:hi] @ template)) / norm
+
+
+def _polish(x, t, dt, kind, source, p, period, t0, log_step: float, rounds: int = 2):
+    """Alternating parabolic steps on ln of :func:`_match` in ln s and ξ.
+
+    Removes the small biases of the grid refinement: the maximum over ξ is taken on whole
+    samples, and the continuous velocity wavelet differs from the trapezoidal velocity by
+    O(dt²).
+    """
+    h_s, h_t = 0.5 * log_step, 0.5 * dt
+    for _ in range(rounds):
+        y = [_match(x, t, dt, kind, source, p, period * math.exp(k * h_s), t0) for k in (-1, 0, 1)]
+        if min(y) > 0:
+            period *= math.exp(_parabola_offset(*np.log(y)) * h_s)
+        y = [_match(x, t, dt, kind, source, p, period, t0 + k * h_t) for k in (-1, 0, 1)]
+        if min(y) > 0:
+            t0 += _parabola_offset(*np.log(y)) * h_t
+        h_s, h_t = 0.5 * h_s, 0.5 * h_t
+    return period, t0
+
+
+def _inner(x, y) -> float:
+    """∫x·y dt / dt by the trapezoidal rule over the record."""
+    return float(x @ y) - 0.5 * (x[0] * y[0] + x[-1] * y[-1])
+
+
 def _fit(acc, vel, t, dt, kind, source, weighting, period, t0, coefficient):
-    """Least-squares amplitude in the source's domain and e_a, e_v (paper Eqs. 8–9)."""
+    """Least-squares amplitude in the source's domain and e_a, e_v (paper Eqs. 8–9).
+
+    All integrals over the record by the trapezoidal rule; v_p is integrated from the first
+    sample like v_g.
+    """
     a1 = ricker(t, 1.0, period, kind, t0=t0)
-    v1 = integrate(a1, dt)  # same integrator as the record
-    if source == "acceleration":
-        den = float(a1 @ a1)
-        amp = float(acc @ a1) / den if den > 0 else 0.0
-    else:
-        den = float(v1 @ v1)
-        amp = float(vel @ v1) / den if den > 0 else 0.0
+    v1 = integrate(a1, dt)
+    x, unit = (acc, a1) if source == "acceleration" else (vel, v1)
+    den = _inner(unit, unit)
+    amp = _inner(x, unit) / den if den > 0 else 0.0
     # Eq. 8: e_a = ∫a_g a_p dt / ∫a_g² dt; Eq. 9 likewise with velocities (dt cancels).
-    e_a = amp * float(acc @ a1) / float(acc @ acc)
-    vv = float(vel @ vel)
-    e_v = amp * float(vel @ v1) / vv if vv > 0 else 0.0
+    e_a = amp * _inner(acc, a1) / _inner(acc, acc)
+    vv = _inner(vel, vel)
+    e_v = amp * _inner(vel, v1) / vv if vv > 0 else 0.0
     return Pulse(kind, amp, period, t0, weighting, source, e_a, e_v, coefficient)
 
 
@@ -361,6 +419,7 @@ def extract_pulses(
     t = np.arange(acc.size) * dt
     periods = default_periods(dt, t[-1]) if periods is None else np.asarray(periods, float)
     vel = integrate(acc, dt)
+    log_step = float(np.median(np.diff(np.log(np.sort(periods))))) if periods.size > 1 else 0.02
     result = {}
     for src in sources:
         x = acc if src == "acceleration" else vel
@@ -374,6 +433,9 @@ def extract_pulses(
                 pulses = []
                 for r, c in found:
                     period, t0 = _refine(mag, weights, r, c, periods, dt)
+                    period, t0 = _polish(
+                        x, t, dt, knd, src, _WEIGHT_EXPONENT[wgt], period, t0, log_step
+                    )
                     coef = float(weights[r] * w_raw[r, c])
                     pulses.append(_fit(acc, vel, t, dt, knd, src, wgt, period, t0, coef))
                 result[(src, wgt, knd)] = pulses
