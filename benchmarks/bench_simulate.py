@@ -1,0 +1,61 @@
+"""Wall time of rigid.simulate on 40 s of input at the default accuracy.
+
+Prints the first call in a fresh interpreter (JIT compile, or load from Numba's cache) and
+the median of 5 warm calls for three inputs: rest, a pulse below the rims and a pulse with
+rim impacts. Run: ``python benchmarks/bench_simulate.py``.
+"""
+
+from __future__ import annotations
+
+import platform
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from rigid import DFPBearing, G, ricker_record, simulate
+
+DT = 0.005
+DURATION = 40.0
+
+FIRST_CALL = """
+import time, numpy as np
+t0 = time.perf_counter()
+from rigid import DFPBearing, simulate
+simulate(DFPBearing(), np.zeros(11), 0.005)
+print(time.perf_counter() - t0)
+"""
+
+
+def cases():
+    n = int(DURATION / DT) + 1
+    _, small = ricker_record(0.1 * G, 2.0, dt=DT, duration=DURATION)
+    _, strong = ricker_record(0.4 * G, 3.0, "antisymmetric", dt=DT, duration=DURATION)
+    return {"rest": np.zeros(n), "pulse 0.1 g, 2 s": small, "pulse 0.4 g, 3 s, impacts": strong}
+
+
+def main() -> None:
+    first = float(subprocess.check_output([sys.executable, "-c", FIRST_CALL], text=True))
+    machine = platform.processor() or platform.machine()
+    print(f"machine: {machine}, Python {platform.python_version()}")
+    print(f"first call (import + compile or cache load): {first:.2f} s")
+    for pressure in (60e6, 10e6):
+        bearing = DFPBearing(pressure=pressure)
+        for name, acceleration in cases().items():
+            simulate(bearing, acceleration, DT)  # warm-up
+            times = []
+            for _ in range(5):
+                t0 = time.perf_counter()
+                result = simulate(bearing, acceleration, DT)
+                times.append(time.perf_counter() - t0)
+            print(
+                f"{pressure / 1e6:4.0f} MPa  {name:28s} median {statistics.median(times):.3f} s "
+                f"per {DURATION:.0f} s  ({result.steps} fine-step units, "
+                f"{len(result.impacts)} impacts, failed={result.failed})"
+            )
+
+
+if __name__ == "__main__":
+    main()
