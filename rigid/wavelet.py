@@ -9,7 +9,8 @@ with ψ the unit-period, unit-peak Ricker pulse (paper Eqs. 5–6) on accelerati
 integral Ψ(u) = ∫ψ du on velocity, so the scale s *is* the pulse period Tp. It is evaluated for
 all ξ at once per scale by FFT correlation against the wavelet's analytic Fourier transform.
 Candidates are local maxima of |C| in the (s, ξ) plane (several, not only the global one;
-``reference/signals.md`` §3.2), refined by parabolas in ln s and ξ. The amplitude is the
+``reference/signals.md`` §3.2), refined by parabolas in ln s and ξ on the grid, then polished
+on the normalised projection of the record on the sampled pulse template. The amplitude is the
 least-squares projection of the record on the pulse in the transform's own domain (§3.3),
 so a pure pulse is recovered exactly with w = 1/√s, while w = 1/s and w = 1 shift the scale by
 the closed-form ratio of §3.4. The match indices are paper Eqs. 8–9:
@@ -69,8 +70,8 @@ class Pulse:
     e_a, e_v : float [-]
         Match indices, paper Eqs. 8–9.
     coefficient : float
-        Weighted wavelet coefficient C(s, ξ) at the pulse [m/s·s^(1−p)] on acceleration,
-        [m·s^(−p)] on velocity.
+        Weighted wavelet coefficient C(s, ξ) at the grid maximum, w(s) = s^(−p):
+        [m·s^(−1−p)] on acceleration, [m·s^(−p)] on velocity.
     """
 
     kind: str
@@ -368,6 +369,8 @@ def _as_arrays(motion, dt):
         acc, dt = np.asarray(motion.acceleration, dtype=float), float(motion.dt)
     else:
         acc = np.asarray(motion, dtype=float)
+    if not (np.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
     if acc.ndim != 1 or acc.size < 4 or not np.all(np.isfinite(acc)):
         raise ValueError("the record must be a finite 1-D acceleration with at least 4 samples")
     if not np.any(acc):
@@ -417,9 +420,14 @@ def extract_pulses(
     for knd in kinds:
         _check(kind=knd)
     t = np.arange(acc.size) * dt
-    periods = default_periods(dt, t[-1]) if periods is None else np.asarray(periods, float)
+    if periods is None:
+        periods = default_periods(dt, t[-1])
+    else:  # sorted, so grid neighbours are neighbouring scales
+        periods = np.unique(np.asarray(periods, dtype=float))
+        if periods.size < 3 or not np.all(np.isfinite(periods)) or periods[0] <= 0:
+            raise ValueError("periods must hold at least 3 distinct positive scales [s]")
     vel = integrate(acc, dt)
-    log_step = float(np.median(np.diff(np.log(np.sort(periods))))) if periods.size > 1 else 0.02
+    log_step = float(np.median(np.diff(np.log(periods))))
     result = {}
     for src in sources:
         x = acc if src == "acceleration" else vel
@@ -479,6 +487,8 @@ def extract_pulse(
     Returns
     -------
     Pulse
+        A period at an end of the scale grid means the maximum is not resolved there
+        (e.g. long-period drift of an uncorrected velocity record with w = 1).
     """
     _check(kind, source, weighting)
     kinds = KINDS if kind is None else (kind,)
