@@ -185,8 +185,8 @@ class GroundMotion:
 
         The velocity v(t) (trapezoid, v(0) = 0) is fitted by least squares with a polynomial
         p(t) of degree ``order`` constrained to p(0) = 0, and p′(t) is subtracted from the
-        acceleration. This is the simple polynomial correction of Boore (2001); it is not
-        applied unless asked for.
+        acceleration. This is the common least-squares polynomial baseline correction; it is
+        never applied unless asked for (spectra and pulse extraction use the record as given).
 
         Parameters
         ----------
