@@ -371,3 +371,25 @@ def test_import_rigid_stays_light():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == ""
+
+
+def test_knet_and_jma_missing_sampling_rate(tmp_path):
+    # Without the sampling line there is no time step: a specific error, not a default.
+    knet = write_knet(tmp_path / "k.NS", np.arange(16))
+    knet.write_text("\n".join(ln for ln in knet.read_text().splitlines() if "Sampling" not in ln))
+    with pytest.raises(RecordFormatError) as e:
+        read_knet(knet)
+    check_error(e, knet, None, "missing header field 'sampling_frequency'")
+    jma = write_jma(tmp_path / "j.csv", [np.zeros(4)] * 3)
+    jma.write_text("\n".join(ln for ln in jma.read_text().splitlines() if "SAMPLING" not in ln))
+    with pytest.raises(RecordFormatError) as e:
+        read_jma_csv(jma)
+    check_error(e, jma, None, "missing 'SAMPLING RATE")
+
+
+def test_jma_short_row(tmp_path):
+    path = write_jma(tmp_path / "s.csv", [np.zeros(4)] * 3)
+    path.write_text(path.read_text() + "1.0, 2.0\n")
+    with pytest.raises(RecordFormatError) as e:
+        read_record(path)
+    check_error(e, path, 12, "expected 3 comma-separated values, found 2")
