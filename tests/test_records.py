@@ -113,11 +113,12 @@ def test_at2_round_trip(tmp_path, form):
 
 
 def test_at2_in_cm_s2(tmp_path):
-    # A header in CM/S/S converts by 0.01 (same printed precision, 1e-7).
+    # A header in CM/S/S converts by 0.01: 1000·x cm/s² is 10·x m/s² (printed to 8
+    # significant digits, 1e-7).
     path = write_at2(
-        tmp_path / "cm.AT2", SAMPLES_G * 981.0, 0.01, units_line="ACCELERATION IN UNITS OF CM/S/S"
+        tmp_path / "cm.AT2", SAMPLES_G * 1000.0, 0.01, units_line="ACCELERATION IN UNITS OF CM/S/S"
     )
-    np.testing.assert_allclose(read_peer_at2(path).acceleration, SAMPLES_G * 9.81, rtol=1e-7)
+    np.testing.assert_allclose(read_peer_at2(path).acceleration, SAMPLES_G * 10.0, rtol=1e-7)
 
 
 def test_knet_round_trip(tmp_path):
