@@ -1,0 +1,193 @@
+r"""The DFP bearing as a plane-strain FE system: mesh, slider, constraints, masses, loads.
+
+Mapping the 3-D bearing to 2-D plane strain (all FE quantities are per unit depth):
+
+* The model has an out-of-plane depth ``depth = A/b = πb/4`` (A the slider's bearing area,
+  b its diameter). A pressure p on the slider's chord b then carries exactly the 3-D load:
+  p·b·depth = p·A = W. The supported mass per unit depth is M/depth = p·b/g, the slider's
+  m_s/depth and J/depth. The rims are continuous walls of that depth: a conservative
+  simplification of a circular rim, whose hoop action the 2-D model cannot represent.
+* Nodal forces and reactions are per unit depth [N/m]; multiply by ``depth`` for newtons.
+
+Constraints (relative frame: the bottom support follows the ground): the ``support`` nodes
+are fixed; the nodes of ``block_top`` are tied to two master dofs (X_T, Z_T), so the block
+and top plate cannot rotate as a whole (the paper's "mass block with rotational degree of
+freedom constrained"); the superstructure mass M/depth, less the steel of the top plate and
+block already in the mesh, is lumped on the masters. The slider is rigid (3 dofs).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rigid.bearing import DFPBearing, G
+
+from . import contact as C
+
+CONTACT_BOUNDARIES = ("dish", "rim_inner", "rim_top")
+
+
+@dataclass
+class DFPSystem:
+    """Everything the time integrator needs for one bearing (see :func:`build_system`).
+
+    Attributes
+    ----------
+    bearing : rigid.DFPBearing
+    depth : float [m]
+        Out-of-plane thickness.
+    mesh : skfem.MeshQuad1
+    system : fem.system.CoupledSystem
+    reduction : fem.system.Reduction
+    mass : ndarray, shape (nreduced,) [kg/m, kg·m²/m]
+        Lumped (diagonal) mass of the reduced dofs.
+    gravity : ndarray, shape (nreduced,) [N/m]
+        Weight vector −M r_z g (reduced).
+    influence : ndarray, shape (nreduced,) [-]
+        Ground influence vector r_x: 1 on horizontal translations, 0 elsewhere; the ground
+        load is −M r_x a_g.
+    top_x, top_z : int
+        Reduced indices of the superstructure masters.
+    slider : ndarray of int, shape (3,)
+        Reduced indices of (X, Z, Θ).
+    rim_roots : dict
+        Rim name ("bottom -x", "bottom +x", "top -x", "top +x") → indices of the elements
+        of the first row above that rim's root, across its thickness (hinge criterion).
+    """
+
+    bearing: DFPBearing
+    depth: float
+    mesh: object
+    system: object
+    reduction: object
+    mass: np.ndarray
+    gravity: np.ndarray
+    influence: np.ndarray
+    top_x: int
+    top_z: int
+    slider: np.ndarray
+    rim_roots: dict
+
+
+def out_of_plane_depth(bearing: DFPBearing) -> float:
+    """Depth of the plane-strain model, A/b = πb/4 [m] (p·b·depth = W)."""
+    return bearing.slider_area / bearing.slider_diameter
+
+
+def build_system(
+    bearing: DFPBearing,
+    *,
+    mesh_options: dict | None = None,
+    penalty_factor: float = 10.0,
+    tangential_ratio: float = 0.1,
+    cache_dir=None,
+) -> DFPSystem:
+    """Assemble the plane-strain DFP model of a bearing.
+
+    Parameters
+    ----------
+    bearing : rigid.DFPBearing
+    mesh_options : dict, optional
+        Keyword arguments of :func:`fem.geometry.build_mesh` (``rim_size``, ``contact_size``,
+        ``coarse_size``, ``block_height`` [m]).
+    penalty_factor : float [-]
+        ε_N = factor · E / h_c, h_c the mean dish facet length (fem.md §7.5: 10–100).
+    tangential_ratio : float [-]
+        ε_T / ε_N (fem.md §7.5: 0.1–1).
+    cache_dir : path-like, optional
+        Mesh cache.
+
+    Returns
+    -------
+    DFPSystem
+    """
+    from skfem import LinearForm, asm
+
+    from .assembly import PlaneStrainQ1
+    from .geometry import build_mesh
+    from .material import Material
+    from .system import CoupledSystem, Reduction
+
+    dfp = build_mesh(bearing, cache_dir=cache_dir, **(mesh_options or {}))
+    m = dfp.mesh
+    fe = PlaneStrainQ1(m)
+    depth = out_of_plane_depth(bearing)
+
+    boundaries = {}
+    for plate in ("bottom", "top"):
+        for name in CONTACT_BOUNDARIES:
+            mu = bearing.friction if name == "dish" else bearing.rim_friction
+            boundaries[f"{plate}_{name}"] = mu
+    nodes = C.ContactNodes.from_mesh(m, boundaries)
+    dish = m.facets[:, m.boundaries["bottom_dish"]]
+    h_c = float(np.mean(np.linalg.norm(m.p[:, dish[1]] - m.p[:, dish[0]], axis=0)))
+    eps_n = penalty_factor * bearing.youngs_modulus / h_c
+    shape = C.SliderShape.from_bearing(bearing)
+    system = CoupledSystem(
+        fe, Material.from_bearing(bearing), shape, nodes,
+        pose=[0.0, bearing.slider_height / 2, 0.0],
+        penalty=eps_n, tangential_penalty=tangential_ratio * eps_n,
+    )
+
+    nd = fe.basis.nodal_dofs
+    support = np.unique(m.facets[:, m.boundaries["support"]])
+    top = np.unique(m.facets[:, m.boundaries["block_top"]])
+    reduction = Reduction(system.size, fixed=nd[:, support].ravel(), ties=(nd[0, top], nd[1, top]))
+
+    # Lumped (row-sum) steel mass of the plates: ∫ρ φ_a dx per dof.
+    rho = bearing.steel_density
+    plate_mass = asm(LinearForm(lambda v, w: rho * (v[0] + v[1])), fe.basis)
+    full_mass = np.concatenate([plate_mass, np.array([1.0, 1.0, 1.0])])
+    full_mass[system.slider_dofs] = np.array(
+        [bearing.slider_mass, bearing.slider_mass, bearing.slider_inertia]
+    ) / depth
+    mass = np.asarray(reduction.PT @ full_mass).ravel()
+    top_x, top_z = (int(k) for k in reduction.masters)
+    above = np.concatenate([m.subdomains[k] for k in ("top_plate", "top_rim", "block")])
+    steel_above = rho * float(fe.basis.dx[above].sum())
+    extra = bearing.supported_mass / depth - steel_above
+    if extra <= 0:
+        raise ValueError("the top plate and block outweigh the supported mass; lower block_height")
+    mass[top_x] += extra
+    mass[top_z] += extra
+
+    # Influence vectors: horizontal translation dofs (plate x dofs, slider X, master X).
+    rx = np.zeros(system.size)
+    rx[nd[0]] = 1.0
+    rx[system.slider_dofs[0]] = 1.0
+    rz = np.zeros(system.size)
+    rz[nd[1]] = 1.0
+    rz[system.slider_dofs[1]] = 1.0
+    influence = np.minimum(np.asarray(reduction.PT @ rx).ravel(), 1.0)
+    vertical = np.minimum(np.asarray(reduction.PT @ rz).ravel(), 1.0)
+    gravity = -mass * vertical * G
+    slider = np.array([reduction.index(k) for k in system.slider_dofs])
+
+    return DFPSystem(
+        bearing, depth, m, system, reduction, mass, gravity, influence, top_x, top_z, slider,
+        _rim_roots(m, bearing),
+    )
+
+
+def _rim_roots(mesh, bearing: DFPBearing) -> dict:
+    """Elements of the first row above each rim root (inside the rim), per rim.
+
+    The rims are meshed structured (``meshes/dfp.geo``), so the first row is the set of rim
+    elements whose centroid lies within one row height of the root line.
+    """
+    z_root = bearing.dish_depth(bearing.rim_radius)
+    out = {}
+    for plate, sub, level, sign in (
+        ("bottom", "bottom_rim", z_root, 1.0),
+        ("top", "top_rim", bearing.slider_height - z_root, -1.0),
+    ):
+        elems = mesh.subdomains[sub]
+        ys = sign * (mesh.p[1, mesh.t[:, elems]] - level)  # height above the root, into the rim
+        row = np.min(np.where(ys > 1e-12, ys, np.inf))
+        centroid = mesh.p[:, mesh.t[:, elems]].mean(axis=1)
+        first = sign * (centroid[1] - level) < row
+        for side, name in ((-1.0, "-x"), (1.0, "+x")):
+            out[f"{plate} {name}"] = elems[first & (np.sign(centroid[0]) == side)]
+    return out
