@@ -16,10 +16,11 @@ on restitution, c = 2ξ√(k√δ·m_eff) (paper Eqs. 1–4). Friction: Coulomb,
 hysteretic state per contact: an elastic–perfectly-plastic tangential spring of stiffness
 μF_n/Y (the sharp limit of the Bouc–Wen law), updated by its exact return map.
 
-Time stepping: velocity Verlet (kick–drift–kick). Velocity-dependent forces (damper, friction)
-use the half-step velocity, the usual DEM practice. Far from the rims, with every contact near
-its static load, the step is a few times longer (the pendulum motion there is smooth and the
-stiffest mode, slider rocking on its vertices at ~1.7e4 rad/s, allows up to 1.1e-4 s); near
+Time stepping: velocity Verlet (kick–drift–kick). The contact dampers are implicit in the
+kicks (backward Euler on the 5 × 5 system M + h/2·C), because c/m_s reaches 1e5–1e6 1/s when
+the supported mass sets c; the friction state advances on the half-step slip. Far from the
+rims, with every contact near its static load, the step is a few times longer (the stiffest
+mode there, slider rocking on its vertices at ~1.7e4 rad/s at 60 MPa, allows 1.1e-4 s); near
 and at the rims the fine step resolves the impacts. The hot loop allocates nothing.
 """
 
@@ -64,6 +65,12 @@ NUM_NAN, NUM_PENETRATION, NUM_ENERGY = 10, 11, 12
 ENERGY_TOLERANCE = 0.05
 
 N_SLOTS = 12
+# work vector of the force routine: energies and forces, then the damping matrix C
+A_EEL, A_CSUM, A_PFRIC, A_BFX, A_C = 0, 1, 2, 3, 5
+#: (row, column) of each stored entry of the upper triangle of C
+C_INDEX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2), (0, 3), (0, 4), (1, 3), (1, 4),
+           (2, 3), (2, 4), (3, 3), (3, 4), (4, 4))
+N_ACC = A_C + 15
 N_RIMS = 4
 EVENT_FIELDS = 5  # time, rim, top-plate velocity, peak rim force, duration
 
@@ -80,29 +87,62 @@ def friction_state_update(z0, slip_over_y):
 
 
 @njit(cache=True)
+def damper_coefficient(sqrt_delta, k, xi, meff):
+    """Damping coefficient c = 2ξ√(k√δ·m_eff) [N·s/m], paper Eq. 3."""
+    return 2.0 * xi * math.sqrt(k * sqrt_delta * meff)
+
+
+@njit(cache=True)
 def hertz_damped_force(delta, delta_rate, k, xi, meff):
     """Normal contact force of paper Eqs. 1–3 as (elastic, damper) parts [N], for δ > 0.
 
-    Elastic kδ^1.5 always; damper cδ̇ with c = 2ξ√(k√δ·m_eff) only on approach (δ̇ > 0), so
-    the force is never tensile.
+    Elastic kδ^1.5 always; damper cδ̇ only on approach (δ̇ > 0), so the force is never
+    tensile. The kernel applies the same law with the damper implicit in time.
     """
     sd = math.sqrt(delta)
-    f_el = k * delta * sd
     if delta_rate > 0.0:
-        return f_el, 2.0 * xi * math.sqrt(k * sd * meff) * delta_rate
-    return f_el, 0.0
+        return k * delta * sd, damper_coefficient(sd, k, xi, meff) * delta_rate
+    return k * delta * sd, 0.0
+
+
+@njit(cache=True, inline="always")
+def _add_damper(acc, c, g0, g1, g2, top):
+    """Add c·GᵀG to the damping matrix kept in acc[A_C:] (upper triangle, order of
+    ``C_INDEX``); G = [n_x, n_z, r×n, −n_x, −n_z], the last two only for contacts with the
+    top plate, so that G·v is minus the approach rate. (Kept in ``acc``: a separate array
+    made the force routine 2× slower.)"""
+    a0 = c * g0
+    a1 = c * g1
+    a2 = c * g2
+    acc[A_C] += a0 * g0
+    acc[A_C + 1] += a0 * g1
+    acc[A_C + 2] += a0 * g2
+    acc[A_C + 3] += a1 * g1
+    acc[A_C + 4] += a1 * g2
+    acc[A_C + 5] += a2 * g2
+    if top:
+        acc[A_C + 6] -= a0 * g0
+        acc[A_C + 7] -= a0 * g1
+        acc[A_C + 8] -= a1 * g0
+        acc[A_C + 9] -= a1 * g1
+        acc[A_C + 10] -= a2 * g0
+        acc[A_C + 11] -= a2 * g1
+        acc[A_C + 12] += a0 * g0
+        acc[A_C + 13] += a0 * g1
+        acc[A_C + 14] += a1 * g1
 
 
 @njit(cache=True, inline="always")
 def _apply(
-    slot, delta, nx, nz, px, pz, xs, zs, vsx, vsz, om, vpx, vpz, meff, mu, p, h, Z, gen, top, acc
+    slot, delta, nx, nz, px, pz, xs, zs, vsx, vsz, om, vpx, vpz, meff, mu, p, h, Z, gen, top,
+    acc,
 ):
     """Contact force of one slot on the slider at point (px, pz) with normal (nx, nz).
 
     (vpx, vpz) is the velocity of the plate's material point; ``top`` is True when the
-    reaction acts on the top plate. Adds generalized forces into ``gen`` and the energy
-    terms into ``acc``: [elastic energy, damping power, friction power, bottom Fx, rim Fn].
-    Returns the normal force.
+    reaction acts on the top plate. Adds the elastic and friction forces into ``gen``; into
+    ``acc`` the elastic energy, the friction power, the bottom plate's Fx and, on approach,
+    the damper c·GᵀG (treated implicitly by the kicks). Returns the elastic normal force.
     """
     rx = px - xs
     rz = pz - zs
@@ -111,13 +151,18 @@ def _apply(
     wz = vsz + om * rx - vpz
     ddot = -(wx * nx + wz * nz)
     vt = -wx * nz + wz * nx  # tangent t = (−n_z, n_x)
-    f_el, f_damp = hertz_damped_force(delta, ddot, p[P_K], p[P_XI], meff)
-    fn = f_el + f_damp
+    sd = math.sqrt(delta)
+    f_el = p[P_K] * delta * sd  # paper Eq. 2 (and the elastic part of Eq. 1)
+    if ddot > 0.0:  # approach: the damper of Eq. 1 with c from Eq. 3
+        c = damper_coefficient(sd, p[P_K], p[P_XI], meff)
+        _add_damper(acc, c, nx, nz, rx * nz - rz * nx, top)
+        acc[A_CSUM] += c
+    # Coulomb friction on the elastic normal force (the damper's part is transient)
     z = friction_state_update(Z[slot], vt * h / p[P_Y])
     Z[slot] = z
-    ft = -mu * fn * z
-    fx = fn * nx - ft * nz
-    fz = fn * nz + ft * nx
+    ft = -mu * f_el * z
+    fx = f_el * nx - ft * nz
+    fz = f_el * nz + ft * nx
     gen[0] += fx
     gen[1] += fz
     gen[2] += rx * fz - rz * fx
@@ -125,11 +170,10 @@ def _apply(
         gen[3] -= fx
         gen[4] -= fz
     else:
-        acc[3] -= fx
-    acc[0] += f_el * delta / 2.5
-    acc[1] += f_damp * ddot
-    acc[2] += -ft * vt
-    return fn
+        acc[A_BFX] -= fx
+    acc[A_EEL] += f_el * delta / 2.5
+    acc[A_PFRIC] += -ft * vt
+    return f_el
 
 
 @njit(cache=True)
@@ -143,7 +187,7 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
     """
     for i in range(5):
         gen[i] = 0.0
-    for i in range(5):
+    for i in range(N_ACC):
         acc[i] = 0.0
     for i in range(N_RIMS):
         rimf[i] = 0.0
@@ -345,12 +389,63 @@ def _failure(p, q, vert):
 
 
 @njit(cache=True)
-def _accelerations(p, gen, ag, a):
-    a[0] = gen[0] / p[P_MS] - ag
-    a[1] = gen[1] / p[P_MS] - p[P_G]
-    a[2] = gen[2] / p[P_JS]
-    a[3] = gen[3] / p[P_M] - ag
-    a[4] = gen[4] / p[P_M] - p[P_G]
+def _kick(p, v, gen, ag, acc, hk, work):
+    """Half kick of velocity Verlet over hk, with the contact dampers backward-Euler:
+    (M + hk·C) v⁺ = M v + hk·F. Implicit damping keeps the step free of the damper's limit
+    (c/m_s reaches 1e5–1e6 1/s when the supported mass sets c). Returns the energy the
+    dampers dissipated, hk·v⁺ᵀCv⁺ [J]."""
+    ms, js, mt = p[P_MS], p[P_JS], p[P_M]
+    f0 = gen[0] - ms * ag
+    f1 = gen[1] - ms * p[P_G]
+    f3 = gen[3] - mt * ag
+    f4 = gen[4] - mt * p[P_G]
+    if acc[A_CSUM] == 0.0:  # no contact approaching
+        v[0] += hk * f0 / ms
+        v[1] += hk * f1 / ms
+        v[2] += hk * gen[2] / js
+        v[3] += hk * f3 / mt
+        v[4] += hk * f4 / mt
+        return 0.0
+    # M + hk·C from the upper triangle of C, Cholesky factor in the lower triangle of work
+    for k in range(15):
+        i, j = C_INDEX[k]
+        work[j, i] = hk * acc[A_C + k]
+    work[0, 0] += ms
+    work[1, 1] += ms
+    work[2, 2] += js
+    work[3, 3] += mt
+    work[4, 4] += mt
+    work[0, 5] = ms * v[0] + hk * f0
+    work[1, 5] = ms * v[1] + hk * f1
+    work[2, 5] = js * v[2] + hk * gen[2]
+    work[3, 5] = mt * v[3] + hk * f3
+    work[4, 5] = mt * v[4] + hk * f4
+    for j in range(5):
+        d = work[j, j]
+        for k in range(j):
+            d -= work[j, k] * work[j, k]
+        d = math.sqrt(d)
+        work[j, j] = d
+        for i in range(j + 1, 5):
+            s = work[i, j]
+            for k in range(j):
+                s -= work[i, k] * work[j, k]
+            work[i, j] = s / d
+    for i in range(5):  # forward, L y = b
+        s = work[i, 5]
+        for k in range(i):
+            s -= work[i, k] * work[k, 5]
+        work[i, 5] = s / work[i, i]
+    for i in range(4, -1, -1):  # backward, Lᵀ x = y
+        s = work[i, 5]
+        for k in range(i + 1, 5):
+            s -= work[k, i] * v[k]
+        v[i] = s / work[i, i]
+    dissipated = 0.0
+    for k in range(15):
+        i, j = C_INDEX[k]
+        dissipated += (1.0 if i == j else 2.0) * acc[A_C + k] * v[i] * v[j]
+    return hk * dissipated
 
 
 @njit(cache=True)
@@ -382,13 +477,13 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, coarse, quiet_energy, stop_at_fai
     """
     q = q0.copy()
     v = np.zeros(5)
-    a = np.zeros(5)
     Z = np.zeros(N_SLOTS)
     gen = np.zeros(5)
-    acc = np.zeros(5)
+    acc = np.zeros(N_ACC)
     rimf = np.zeros(N_RIMS)
     sep = np.zeros(2)
     vert = np.zeros((4, 2))
+    work = np.zeros((5, 6))
     in_contact = np.zeros(N_RIMS, dtype=np.bool_)
     last_contact = np.full(N_RIMS, -1e9)
     open_event = np.full(N_RIMS, -1)
@@ -398,8 +493,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, coarse, quiet_energy, stop_at_fai
     ms, js, mt, g = p[P_MS], p[P_JS], p[P_M], p[P_G]
 
     dmax = forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert)
-    _accelerations(p, gen, ag_in[0], a)
-    e_el0 = acc[0]
+    e_el0 = acc[A_EEL]
     zs0, zt0 = q0[1], q0[4]
     e_in = 0.0
     e_scale = mt * g * 1e-3  # floor: the work of lifting the supported mass by 1 mm
@@ -415,7 +509,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, coarse, quiet_energy, stop_at_fai
     fail_code = 0
     fail_time = -1.0
     ag_old = ag_in[0]
-    shear = acc[3]
+    shear = acc[A_BFX]
     far = False
     step = 0
     while True:
@@ -424,7 +518,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, coarse, quiet_energy, stop_at_fai
             e_kin = 0.5 * (ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2
                            + mt * (v[3] ** 2 + v[4] ** 2))
             e_grav = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0)
-            e_pot = e_grav + acc[0] - e_el0
+            e_pot = e_grav + acc[A_EEL] - e_el0
             hist[n_rec, H_XT] = q[3]
             hist[n_rec, H_ZT] = q[4] - zt0
             hist[n_rec, H_XS] = q[0]
@@ -461,19 +555,16 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, coarse, quiet_energy, stop_at_fai
         elif k_in == n_in - 1 and frac == 0.0:
             ag_new = ag_in[k_in]
         # kick – drift
+        e_imp += _kick(p, v, gen, ag_old, acc, 0.5 * hs, work)
         for i in range(5):
-            v[i] += 0.5 * hs * a[i]
             q[i] += hs * v[i]
         # input work of the inertial loads over the step, half-step velocities
         e_in -= 0.5 * (ag_old + ag_new) * (ms * v[0] + mt * v[3]) * hs
         dmax = forces(p, q, v, Z, hs, gen, acc, rimf, sep, vert)
-        e_imp += acc[1] * hs
-        e_fric += acc[2] * hs
-        shear = acc[3]
-        _accelerations(p, gen, ag_new, a)
+        e_fric += acc[A_PFRIC] * hs
+        shear = acc[A_BFX]
         # kick
-        for i in range(5):
-            v[i] += 0.5 * hs * a[i]
+        e_imp += _kick(p, v, gen, ag_new, acc, 0.5 * hs, work)
         ag_old = ag_new
         step += m
         t = step * h
@@ -535,7 +626,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, coarse, quiet_energy, stop_at_fai
     summary[S_MAX_RIMF] = max_rimf
     summary[S_EIN] = e_in
     summary[S_EKIN] = e_kin
-    summary[S_EPOT] = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0) + acc[0] - e_el0
+    summary[S_EPOT] = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0) + acc[A_EEL] - e_el0
     summary[S_EFRIC] = e_fric
     summary[S_EIMP] = e_imp
     summary[S_N_REC] = n_rec

@@ -65,10 +65,13 @@ class DFPBearing:
         penetration ≈ 1.1 mm at 60 MPa).
     restitution : float [-]
         Coefficient of restitution e of the contact damper, paper Eq. 4. *Paper*: 0.65.
-        The masses m1, m2 of paper Eq. 3 are not given in the paper; *assumed*: the slider
-        against a plate, m1·m2/(m1 + m2) = m_s (bottom plate, rigid ground) or
-        m_s·M/(m_s + M) (top plate). Using M instead makes the damper too stiff for any
-        practical explicit step (see README, open questions).
+    impact_mass : {"supported", "slider"}
+        The colliding masses m1·m2/(m1 + m2) of paper Eq. 3, not given in the paper.
+        *Assumed* ``"supported"``: the slider carries the supported mass into the bottom
+        plate (m_eff = M + m_s) and the top plate hits the slider backed by the ground
+        (m_eff = M), so a rim impact of the superstructure rebounds with e. ``"slider"``:
+        the literal pairs slider–plate, m_s and m_s·M/(m_s + M); the superstructure's
+        impacts are then almost elastic whatever e is (sensitivity option).
     rim_friction : float [-]
         Friction coefficient between the slider's sides and the rims. *Assumed* 0.05.
     friction_yield_slip : float [m]
@@ -102,6 +105,7 @@ class DFPBearing:
     rim_thickness: float = 0.040
     contact_stiffness: float = 1e11
     restitution: float = 0.65
+    impact_mass: str = "supported"
     rim_friction: float = 0.05
     friction_yield_slip: float = 1e-4
     design_period: float = 4.5
@@ -119,7 +123,13 @@ class DFPBearing:
             "contact_stiffness friction_yield_slip design_period steel_density youngs_modulus "
             "yield_stress ultimate_stress plate_thickness"
         ).split()
+        if self.impact_mass not in ("supported", "slider"):
+            raise ValueError(
+                f"DFPBearing.impact_mass must be 'supported' or 'slider', got {self.impact_mass!r}"
+            )
         for f in fields(self):
+            if f.name == "impact_mass":
+                continue
             value = getattr(self, f.name)
             if not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise ValueError(f"DFPBearing.{f.name} must be a finite number, got {value!r}")

@@ -215,13 +215,18 @@ def test_frictionless_peak_equals_undamped_spectral_displacement(kind):
 
 
 def test_accuracy_does_not_depend_on_record_sampling():
-    """The same smooth pulse sampled at 0.005 s and 0.02 s: same impacts within 0.5 %
-    (linear interpolation error of the input is (dt²/8)·|a''| ≈ 1e-4 of Ap)."""
+    """The same smooth pulse sampled at 0.005 s and 0.02 s: the same first impact, to 0.5 % in
+    velocity and 1 ms in time (the input's linear interpolation error is (dt²/8)·|a''|,
+    about 1e-4 of Ap). Later impacts follow a rocking, uplifting slider whose details are
+    sensitive to any perturbation; the step-convergence test covers them."""
     runs = []
     for dt in (0.005, 0.02):
-        _t, a = ricker_record(0.4 * G, 3.0, "antisymmetric", dt=dt)
+        _, a = ricker_record(0.4 * G, 3.0, "antisymmetric", dt=dt)
         runs.append(simulate(LIGHT, a, dt))
-    assert runs[1].max_impact_velocity == pytest.approx(runs[0].max_impact_velocity, rel=0.005)
+    first = [r.impacts[0] for r in runs]
+    assert first[1].velocity == pytest.approx(first[0].velocity, rel=0.005)
+    assert first[1].time == pytest.approx(first[0].time, abs=1e-3)
+    assert runs[0].failed == runs[1].failed
     assert runs[0].internal_step == pytest.approx(DEFAULT_MAX_STEP)
 
 
