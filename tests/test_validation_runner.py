@@ -1,0 +1,137 @@
+"""Result store and task runner: keys, persistence, resume after a kill, local pool vs Dask."""
+
+import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+from rigid import DFPBearing, G, ricker_record
+from validation.runner import Task, run_tasks
+from validation.store import ResultStore, task_key
+from validation.tasks import bearing_dict, rigid_run
+
+
+def test_task_key_is_canonical_and_sensitive():
+    b = DFPBearing()
+    a = np.linspace(0, 1, 11)
+    k = task_key("rigid", bearing=b, acceleration=a, scale=1.0)
+    assert k == task_key("rigid", scale=1.0, acceleration=a.copy(), bearing=DFPBearing())
+    assert k != task_key("rigid", bearing=b, acceleration=a, scale=1.01)
+    assert k != task_key("rigid", bearing=dataclasses.replace(b, friction=0.06),
+                         acceleration=a, scale=1.0)
+    changed = a.copy()
+    changed[5] += 1e-12
+    assert k != task_key("rigid", bearing=b, acceleration=changed, scale=1.0)
+    with pytest.raises(TypeError, match="object"):
+        task_key("rigid", thing=object())
+
+
+def test_store_round_trip(tmp_path):
+    with ResultStore(tmp_path / "r.sqlite") as store:
+        store.put("k1", "rigid", {"failed": True, "v": [1.5, 2.0]}, seconds=0.1)
+        assert "k1" in store and "k2" not in store
+        assert store.get("k1") == {"failed": True, "v": [1.5, 2.0]}
+        assert store.count() == 1 and store.count("fem") == 0
+    with ResultStore(tmp_path / "r.sqlite") as store:  # persisted
+        assert store.get("k1")["v"] == [1.5, 2.0] and store.check()
+
+
+def _square(x):
+    return {"y": x * x}
+
+
+def _tasks(n):
+    return [Task(task_key("square", x=x), "square", _square, {"x": x}) for x in range(n)]
+
+
+def test_rerun_reuses_stored_results(tmp_path):
+    store = ResultStore(tmp_path / "r.sqlite")
+    first = run_tasks(_tasks(5), store, workers=1, progress=False)
+    assert [first[t.key]["y"] for t in _tasks(5)] == [0, 1, 4, 9, 16]
+    calls = []
+
+    def spy(task, result):
+        calls.append(task.key)
+        return ()
+
+    again = run_tasks(_tasks(5), store, workers=1, progress=False, follow_up=spy)
+    assert again == first and len(calls) == 5 and store.count() == 5
+
+
+def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
+    """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""
+    store = ResultStore(tmp_path / "r.sqlite")
+
+    def next_rung(task, result):
+        x = task.kwargs["x"]
+        return [] if result["y"] > 20 else [Task(task_key("square", x=x + 1), "square",
+                                                 _square, {"x": x + 1})]
+
+    results = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=next_rung)
+    assert sorted(r["y"] for r in results.values()) == [0, 1, 4, 9, 16, 25]
+
+
+def _rigid_tasks(n):
+    bearing = bearing_dict(DFPBearing(pressure=10e6))
+    _, a = ricker_record(0.1 * G, 3.0, dt=0.01)  # fails at 0.8 g (tests/test_model.py)
+    return [Task(task_key("rigid", bearing=bearing, acceleration=a, dt=0.01, scale=s),
+                 "rigid", rigid_run, {"bearing": bearing, "acceleration": a, "dt": 0.01,
+                                      "scale": s})
+            for s in np.linspace(1.0, 8.0, n)]
+
+
+def test_local_pool_and_dask_give_identical_results(tmp_path):
+    """The same tasks in this process, in a spawned process pool and on a Dask LocalCluster."""
+    distributed = pytest.importorskip("dask.distributed")
+    tasks = _rigid_tasks(4)
+    inline = run_tasks(tasks, ResultStore(tmp_path / "a.sqlite"), workers=1, progress=False)
+    pool = run_tasks(tasks, ResultStore(tmp_path / "b.sqlite"), workers=2, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        dask = run_tasks(tasks, ResultStore(tmp_path / "c.sqlite"),
+                         scheduler=cluster.scheduler_address, progress=False)
+    assert inline == pool == dask
+    outcomes = [r["failed"] for r in inline.values()]
+    assert any(outcomes) and not all(outcomes)
+
+
+RESUMABLE_RUN = textwrap.dedent("""
+    import sys
+    sys.path.insert(0, {tests!r})
+    from test_validation_runner import _rigid_tasks
+    from validation.runner import run_tasks
+    from validation.store import ResultStore
+    run_tasks(_rigid_tasks(8), ResultStore(sys.argv[1]), workers=1, progress=False)
+""")
+
+
+def test_killed_run_resumes_with_the_same_results(tmp_path):
+    """Kill a run (SIGKILL, no cleanup) after some results are stored; the rerun completes
+    them without redoing stored work and matches an uninterrupted run; the store is sound."""
+    db = tmp_path / "killed.sqlite"
+    script = RESUMABLE_RUN.format(tests=os.path.dirname(__file__))
+    proc = subprocess.Popen([sys.executable, "-c", script, str(db)])
+    deadline = time.time() + 120
+    while time.time() < deadline and proc.poll() is None:
+        if db.exists() and ResultStore(db).count() >= 3:
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the run finished before it could be interrupted"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    store = ResultStore(db)
+    done = store.count()
+    assert 3 <= done < 8 and store.check()
+    redone = []
+    resumed = run_tasks(_rigid_tasks(8), store, workers=1, progress=False,
+                        follow_up=lambda t, r: redone.append(t.key) or ())
+    assert store.count() == 8 and len(redone) == 8
+    clean = run_tasks(_rigid_tasks(8), ResultStore(tmp_path / "clean.sqlite"), workers=1,
+                      progress=False)
+    assert resumed == clean
