@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from rigid import DFPBearing, G, ricker_record
-from validation.runner import Task, run_tasks
-from validation.store import ResultStore, task_key
+from rigid.parallel import Task, run_tasks
+from rigid.store import ResultStore, task_key
 from validation.tasks import bearing_dict, rigid_run
 
 
@@ -104,9 +104,9 @@ def test_local_pool_and_dask_give_identical_results(tmp_path):
 RESUMABLE_RUN = textwrap.dedent("""
     import sys
     sys.path.insert(0, {tests!r})
-    from test_validation_runner import _rigid_tasks
-    from validation.runner import run_tasks
-    from validation.store import ResultStore
+    from test_parallel import _rigid_tasks
+    from rigid.parallel import run_tasks
+    from rigid.store import ResultStore
     run_tasks(_rigid_tasks(8), ResultStore(sys.argv[1]), workers=1, progress=False)
 """)
 
