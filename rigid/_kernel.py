@@ -133,22 +133,19 @@ def _add_damper(acc, c, g0, g1, g2, top):
 
 
 @njit(cache=True, inline="always")
-def _apply(
-    slot, delta, nx, nz, px, pz, xs, zs, vsx, vsz, om, vpx, vpz, meff, mu, p, h, Z, gen, top,
-    acc,
-):
+def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc):
     """Contact force of one slot on the slider at point (px, pz) with normal (nx, nz).
 
-    (vpx, vpz) is the velocity of the plate's material point; ``top`` is True when the
-    reaction acts on the top plate. Adds the elastic and friction forces into ``gen``; into
-    ``acc`` the elastic energy, the friction power, the bottom plate's Fx and, on approach,
-    the damper c·GᵀG (treated implicitly by the kicks). Returns the elastic normal force.
+    ``top`` is True when the other body is the top plate (moving with v[3], v[4]), False for
+    the bottom plate (fixed in this frame). Adds the elastic and friction forces into
+    ``gen``; into ``acc`` the elastic energy, the friction power, the bottom plate's Fx and,
+    on approach, the damper c·GᵀG (implicit in the kicks). Returns the elastic normal force.
     """
-    rx = px - xs
-    rz = pz - zs
+    rx = px - q[0]
+    rz = pz - q[1]
     # relative velocity of the slider's material point with respect to the plate
-    wx = vsx - om * rz - vpx
-    wz = vsz + om * rx - vpz
+    wx = v[0] - v[2] * rz - (v[3] if top else 0.0)
+    wz = v[1] + v[2] * rx - (v[4] if top else 0.0)
     ddot = -(wx * nx + wz * nz)
     vt = -wx * nz + wz * nx  # tangent t = (−n_z, n_x)
     sd = math.sqrt(delta)
@@ -199,7 +196,6 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
     tr = p[P_TR]
     ztop = p[P_ZTOP]
     xs, zs, th, xt, zt = q[0], q[1], q[2], q[3], q[4]
-    vsx, vsz, om, vtx, vtz = v[0], v[1], v[2], v[3], v[4]
     c = math.cos(th)
     s = math.sin(th)
     ctz = zt + hs - R  # centre of the top dish (x_T, ctz); bottom dish centre (0, R)
@@ -217,9 +213,9 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
         vert[j, 1] = pz
         is_top = j >= 2
         if is_top:
-            cx, cz, vpx, vpz, meff = xt, ctz, vtx, vtz, p[P_MEFF_TOP]
+            cx, cz, meff = xt, ctz, p[P_MEFF_TOP]
         else:
-            cx, cz, vpx, vpz, meff = 0.0, R, 0.0, 0.0, p[P_MEFF_BOT]
+            cx, cz, meff = 0.0, R, p[P_MEFF_BOT]
         # vertex on the dish (slot j); the dish continues under the rim root
         dx = cx - px
         dz = cz - pz
@@ -230,29 +226,8 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
             sep[1 if is_top else 0] = min(sep[1 if is_top else 0], -delta)
             if delta > 0.0:
                 dmax = max(dmax, delta)
-                _apply(
-                    j,
-                    delta,
-                    dx / d,
-                    dz / d,
-                    px,
-                    pz,
-                    xs,
-                    zs,
-                    vsx,
-                    vsz,
-                    om,
-                    vpx,
-                    vpz,
-                    meff,
-                    p[P_MU],
-                    p,
-                    h,
-                    Z,
-                    gen,
-                    is_top,
-                    acc,
-                )
+                _apply(j, delta, dx / d, dz / d, px, pz, is_top, meff, p[P_MU], p, q, v, h, Z,
+                       gen, acc)
             else:
                 Z[j] = 0.0
         else:
@@ -275,29 +250,8 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
             else:
                 delta, nx, nz = w, 0.0, (-1.0 if is_top else 1.0)
             dmax = max(dmax, delta)
-            rimf[rim] += _apply(
-                4 + j,
-                delta,
-                nx,
-                nz,
-                px,
-                pz,
-                xs,
-                zs,
-                vsx,
-                vsz,
-                om,
-                vpx,
-                vpz,
-                meff,
-                p[P_MU_RIM],
-                p,
-                h,
-                Z,
-                gen,
-                is_top,
-                acc,
-            )
+            rimf[rim] += _apply(4 + j, delta, nx, nz, px, pz, is_top, meff, p[P_MU_RIM], p, q, v,
+                                h, Z, gen, acc)
         else:
             Z[4 + j] = 0.0
     if off_bottom:
@@ -309,9 +263,9 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
         is_top = r >= 2
         side = 1.0 if (r % 2 == 1) else -1.0
         if is_top:
-            kx, kz, vpx, vpz = xt + side * rin, zt + hs - ztop, vtx, vtz
+            kx, kz = xt + side * rin, zt + hs - ztop
         else:
-            kx, kz, vpx, vpz = side * rin, ztop, 0.0, 0.0
+            kx, kz = side * rin, ztop
         dx = kx - xs
         dz = kz - zs
         qx = c * dx + s * dz  # corner in the slider's body frame
@@ -339,29 +293,8 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert):
         nz = -(s * nbx + c * nbz)
         meff = p[P_MEFF_TOP] if is_top else p[P_MEFF_BOT]
         dmax = max(dmax, delta)
-        rimf[r] += _apply(
-            8 + r,
-            delta,
-            nx,
-            nz,
-            kx,
-            kz,
-            xs,
-            zs,
-            vsx,
-            vsz,
-            om,
-            vpx,
-            vpz,
-            meff,
-            p[P_MU_RIM],
-            p,
-            h,
-            Z,
-            gen,
-            is_top,
-            acc,
-        )
+        rimf[r] += _apply(8 + r, delta, nx, nz, kx, kz, is_top, meff, p[P_MU_RIM], p, q, v, h,
+                          Z, gen, acc)
     return dmax
 
 
