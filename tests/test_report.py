@@ -1,0 +1,32 @@
+"""HTML report builder: self-contained page, escaped text, embedded figures, formatted tables."""
+
+import base64
+
+from validation.report import Report
+
+# the 8-byte PNG signature plus an IHDR-like tail: enough to check the embedding round-trips
+PNG = b"\x89PNG\r\n\x1a\n" + b"\x00" * 16
+
+
+def test_report_is_self_contained_and_escaped(tmp_path):
+    png = tmp_path / "fig.png"
+    png.write_bytes(PNG)
+    report = Report("Validation <quick>")
+    report.heading("Critical SA & prediction")
+    report.paragraph("SA(4.5 s) < 0.2 g", note=True)
+    report.table([{"record": "RSN1084 <a>", "sa": 0.123456, "failed": True, "none": None}],
+                 caption="ladder")
+    report.figure(png, caption="Figure 12")
+    text = report.write(tmp_path / "report.html").read_text()
+    assert "<quick>" not in text and "Validation &lt;quick&gt;" in text
+    assert "SA(4.5 s) &lt; 0.2 g" in text and 'class="note"' in text
+    assert "RSN1084 &lt;a&gt;" in text and "0.1235" in text and "yes" in text and "—" in text
+    embedded = text.split("data:image/png;base64,")[1].split('"')[0]
+    assert base64.b64decode(embedded) == PNG
+    assert "src=\"http" not in text and "<link" not in text  # nothing fetched from elsewhere
+
+
+def test_empty_table_says_so(tmp_path):
+    report = Report("r")
+    report.table([], caption="impacts")
+    assert "impacts: no rows." in report.html()
