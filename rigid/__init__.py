@@ -5,6 +5,7 @@ motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
 """
 
 from .bearing import DFPBearing, G, jankowski_damping_ratio
+from .ida import CriticalSA, critical_sa, critical_sas
 from .model import Impact, NumericalInstabilityError, SimulationResult, simulate
 from .pulses import ricker, ricker_displacement, ricker_record, ricker_velocity
 from .record_sets import fema_p695, read_manifest
@@ -13,6 +14,7 @@ from .spectra import pseudo_acceleration, scale_factor, scaling_ladder
 from .wavelet import Pulse, best_pulse, extract_pulse, extract_pulses
 
 __all__ = [
+    "CriticalSA",
     "DFPBearing",
     "G",
     "GroundMotion",
@@ -22,6 +24,8 @@ __all__ = [
     "RecordFormatError",
     "SimulationResult",
     "best_pulse",
+    "critical_sa",
+    "critical_sas",
     "extract_pulse",
     "extract_pulses",
     "fema_p695",
