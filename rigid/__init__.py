@@ -6,11 +6,22 @@ motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
 
 from .bearing import DFPBearing, G, jankowski_damping_ratio
 from .ida import CriticalSA, critical_sa, critical_sas
+from .impact import (
+    design_chart,
+    impact_region_spectrum,
+    impact_velocity_spectrum,
+    load_spectrum,
+    max_impact_velocity_spectra,
+    region_at,
+    region_boundaries,
+    save_spectrum,
+)
 from .model import Impact, NumericalInstabilityError, SimulationResult, simulate
 from .pulses import ricker, ricker_displacement, ricker_record, ricker_velocity
 from .record_sets import fema_p695, read_manifest
 from .records import GroundMotion, RecordFormatError, read_record
 from .spectra import pseudo_acceleration, scale_factor, scaling_ladder
+from .sweep import SweepSettings
 from .wavelet import Pulse, best_pulse, extract_pulse, extract_pulses
 
 __all__ = [
@@ -23,20 +34,29 @@ __all__ = [
     "Pulse",
     "RecordFormatError",
     "SimulationResult",
+    "SweepSettings",
     "best_pulse",
     "critical_sa",
     "critical_sas",
+    "design_chart",
     "extract_pulse",
     "extract_pulses",
     "fema_p695",
+    "impact_region_spectrum",
+    "impact_velocity_spectrum",
     "jankowski_damping_ratio",
+    "load_spectrum",
+    "max_impact_velocity_spectra",
     "pseudo_acceleration",
     "read_manifest",
     "read_record",
+    "region_at",
+    "region_boundaries",
     "ricker",
     "ricker_displacement",
     "ricker_record",
     "ricker_velocity",
+    "save_spectrum",
     "scale_factor",
     "scaling_ladder",
     "simulate",
