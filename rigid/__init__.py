@@ -17,6 +17,7 @@ from .impact import (
     save_spectrum,
 )
 from .model import Impact, NumericalInstabilityError, SimulationResult, simulate
+from .predict import PredictedSA, predict_critical_sa
 from .pulses import ricker, ricker_displacement, ricker_record, ricker_velocity
 from .record_sets import fema_p695, read_manifest
 from .records import GroundMotion, RecordFormatError, read_record
@@ -31,6 +32,7 @@ __all__ = [
     "GroundMotion",
     "Impact",
     "NumericalInstabilityError",
+    "PredictedSA",
     "Pulse",
     "RecordFormatError",
     "SimulationResult",
@@ -47,6 +49,7 @@ __all__ = [
     "jankowski_damping_ratio",
     "load_spectrum",
     "max_impact_velocity_spectra",
+    "predict_critical_sa",
     "pseudo_acceleration",
     "read_manifest",
     "read_record",
