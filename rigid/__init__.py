@@ -5,6 +5,13 @@ motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
 """
 
 from .bearing import DFPBearing, G, jankowski_damping_ratio
+from .fragility import (
+    CollapseMargin,
+    LognormalFit,
+    collapse_margin,
+    fit_lognormal,
+    set_collapse_intensity,
+)
 from .ida import CriticalSA, critical_sa, critical_sas
 from .impact import (
     design_chart,
@@ -26,11 +33,13 @@ from .sweep import SweepSettings
 from .wavelet import Pulse, best_pulse, extract_pulse, extract_pulses
 
 __all__ = [
+    "CollapseMargin",
     "CriticalSA",
     "DFPBearing",
     "G",
     "GroundMotion",
     "Impact",
+    "LognormalFit",
     "NumericalInstabilityError",
     "PredictedSA",
     "Pulse",
@@ -38,12 +47,14 @@ __all__ = [
     "SimulationResult",
     "SweepSettings",
     "best_pulse",
+    "collapse_margin",
     "critical_sa",
     "critical_sas",
     "design_chart",
     "extract_pulse",
     "extract_pulses",
     "fema_p695",
+    "fit_lognormal",
     "impact_region_spectrum",
     "impact_velocity_spectrum",
     "jankowski_damping_ratio",
@@ -62,5 +73,6 @@ __all__ = [
     "save_spectrum",
     "scale_factor",
     "scaling_ladder",
+    "set_collapse_intensity",
     "simulate",
 ]
