@@ -7,10 +7,26 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.assembly` — plane-strain Q1 with B-bar, einsum assembly (scikit-fem).
 * :mod:`fem.newton` — Newton iterations for one quasi-static increment (scikit-fem).
 * :mod:`fem.geometry` — the bearing mesh from ``meshes/dfp.geo``, cached (gmsh, scikit-fem).
+* :mod:`fem.contact` — the rigid slider: node-to-analytic-surface penalty contact, Coulomb
+  friction, exact rotation, coupled tangent (numpy only).
+* :mod:`fem.system` — plates + slider: internal forces, tangent, constraints, static Newton.
+* :mod:`fem.dfp` — the bearing as a plane-strain system (depth, masses, ties, loads).
+* :mod:`fem.dynamics` — HHT-α with Newton, step cutback and an energy balance.
+* :mod:`fem.model` — :func:`simulate` and :class:`FEMResult`, failure detection.
+* :mod:`fem.output` — VTU files and pictures (meshio, pyvista).
 
 ``fem`` depends on ``rigid`` (for :class:`rigid.DFPBearing`), never the other way.
 """
 
 from .material import Material, MaterialState, ReturnMapResult, return_map, von_mises
+from .model import FEMResult, simulate
 
-__all__ = ["Material", "MaterialState", "ReturnMapResult", "return_map", "von_mises"]
+__all__ = [
+    "FEMResult",
+    "Material",
+    "MaterialState",
+    "ReturnMapResult",
+    "return_map",
+    "simulate",
+    "von_mises",
+]

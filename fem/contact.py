@@ -249,6 +249,8 @@ class ContactResult(NamedTuple):
     active, stick : ndarray of bool, shape (n,)
     gap : ndarray, shape (n,) [m]
         Adjusted penetration δ − δ₀ (positive when penetrating).
+    slip : ndarray, shape (n,) [m]
+        Slip ΔS since the last converged state (0 where open); friction dissipates −T·ΔS.
     normal_energy : float [J/m]
         Elastic energy of the normal penalty springs, Σ N (δ − δ₀)/2.
     """
@@ -262,6 +264,7 @@ class ContactResult(NamedTuple):
     active: np.ndarray
     stick: np.ndarray
     gap: np.ndarray
+    slip: np.ndarray
     normal_energy: float
 
 
@@ -373,7 +376,8 @@ def evaluate(
     new_state = ContactState(xi, T, np.where(active, face, -1))
     energy = float(0.5 * (N * np.where(active, gap, 0.0)).sum())
     return ContactResult(
-        N, T, node_force, slider_force, K, new_state, active, stick, gap, energy
+        N, T, node_force, slider_force, K, new_state, active, stick, gap,
+        np.where(active, slip, 0.0), energy,
     )
 
 

@@ -31,6 +31,7 @@ class Evaluation(NamedTuple):
     stiffness: sp.csr_matrix
     material: ReturnMapResult
     contact: C.ContactResult
+    material_force: np.ndarray
 
 
 class State(NamedTuple):
@@ -101,6 +102,7 @@ class CoupledSystem:
         mat = return_map(self.material, self.fe.strain(u), state.material)
         f = np.zeros(self.size)
         f[: self.n_plate] = self.fe.internal_force(mat.stress)
+        f_mat = f.copy()
         con = C.evaluate(
             self.shape,
             self.nodes,
@@ -115,7 +117,7 @@ class CoupledSystem:
         f[self.slider_dofs] -= con.slider_force
         K = sp.block_diag((self.fe.stiffness(mat.tangent), sp.csr_matrix((3, 3))), format="csr")
         K = K + C.assemble(con.stiffness, self.node_dofs, self.slider_dofs, self.size)
-        return Evaluation(f, K.tocsr(), mat, con)
+        return Evaluation(f, K.tocsr(), mat, con, f_mat)
 
 
 class Reduction:

@@ -1,0 +1,130 @@
+"""The FE model in time (fem.dynamics, fem.model): HHT constants, the free sliding period against
+the rigid model and the closed form, the energy balance, and friction dissipation.
+
+Coarse mesh (905 dofs) and short inputs so the module runs in about half a minute.
+Closed forms written here: T = 2π√((2R − h)/g); for a linear oscillator released by a pulse that
+is symmetric about t_c, the free response is A sin(ω(t − t_c)), so it crosses zero at
+t_c + T/2 exactly (the Duhamel integral of an even pulse has no cosine part).
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+pytest.importorskip("skfem")
+pytest.importorskip("gmsh")
+
+import fem
+import rigid
+from fem.dynamics import HHTParameters
+from rigid.bearing import DFPBearing
+
+COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
+DT = 0.01
+PULSE = 1.0  # [s] half-sine duration, centred at t_c = 0.5 s
+AMPLITUDE = 0.3  # [m/s²]
+
+
+def half_sine(duration):
+    t = np.arange(0.0, duration + DT / 2, DT)
+    return np.where(t < PULSE, AMPLITUDE * np.sin(np.pi * t / PULSE), 0.0)
+
+
+def zero_crossings(t, u, after):
+    """Times where u changes sign after ``after``, linearly interpolated."""
+    i = np.flatnonzero(np.sign(u[:-1]) * np.sign(u[1:]) < 0)
+    i = i[t[i] > after]
+    return t[i] - u[i] * (t[i + 1] - t[i]) / (u[i + 1] - u[i])
+
+
+def test_hht_constants():
+    """β = (1 − α)²/4, γ = ½ − α, ρ∞ = (1 + α)/(1 − α) (Hilber et al. 1977); fem.md §5.9 lists
+    ρ∞ = 0.905, 0.538 at α = −0.05, −0.3 (3 digits); α outside [−1/3, 0] is rejected."""
+    assert HHTParameters(-0.05).spectral_radius == pytest.approx(0.905, abs=5e-4)
+    assert HHTParameters(-0.3).spectral_radius == pytest.approx(0.538, abs=5e-4)
+    h = HHTParameters(0.0)
+    assert (h.beta, h.gamma) == (0.25, 0.5)
+    with pytest.raises(ValueError):
+        HHTParameters(-0.4)
+    with pytest.raises(ValueError):
+        HHTParameters(0.1)
+
+
+@pytest.fixture(scope="module")
+def frictionless(tmp_path_factory):
+    bearing = dataclasses.replace(DFPBearing(), friction=0.0, rim_friction=0.0)
+    a = half_sine(3.0)
+    result = fem.simulate(
+        bearing, a, DT, max_step=0.02, mesh_options=COARSE,
+        cache_dir=tmp_path_factory.mktemp("meshes"),
+    )
+    return bearing, a, result
+
+
+def test_free_sliding_period(frictionless):
+    """μ = 0, a 0.3 m/s² half-sine of 1 s, then free sliding (amplitude 0.13 m, well inside the
+    0.6 m capacity). The first zero crossing after the pulse, t_c + T/2, from the FE model and
+    from the rigid model, against t_c + π√((2R − h)/g) = 2.698 s. Tolerance 2 % of T/2 (the
+    issue's criterion): the pendulum's amplitude dependence (θ ≈ 0.027 rad: +0.005 %), HHT's
+    period error O((ωΔt)²) = 1e-4 and the slider mass (2.6e-4 of M) are far smaller."""
+    bearing, a, res = frictionless
+    assert not res.failed and not res.numerical_failure
+    half = bearing.period / 2
+    expected = PULSE / 2 + half
+    fe_cross = zero_crossings(res.time, res.displacement, after=PULSE)
+    rb = rigid.simulate(bearing, a, DT)
+    rigid_cross = zero_crossings(rb.time, rb.displacement, after=PULSE)
+    assert fe_cross.size >= 1 and rigid_cross.size >= 1
+    assert fe_cross[0] == pytest.approx(expected, abs=0.02 * half)
+    assert rigid_cross[0] == pytest.approx(expected, abs=0.02 * half)
+    assert fe_cross[0] == pytest.approx(rigid_cross[0], abs=0.02 * half)
+    # same amplitude as the rigid model (the same pendulum): 2 %
+    assert res.max_displacement == pytest.approx(rb.max_displacement, rel=0.02)
+
+
+def test_energy_balance_frictionless(frictionless):
+    """Input work = kinetic + strain + contact springs (+ plastic, friction = 0) up to HHT's
+    algorithmic dissipation: |residual| ≤ 1 % of the largest input (HHT at α = −0.3 damps the
+    pendulum by ξ ≈ −αωΔt/2 = 0.4 % at Δt = 0.02 s, about 1 % of the energy over the run).
+    Nothing yields and nothing dissipates by friction."""
+    _, _, res = frictionless
+    e = res.energy
+    assert np.abs(e["residual"]).max() <= 0.01 * np.abs(e["input"]).max()
+    assert res.max_plastic_strain == 0.0
+    assert np.all(e["friction"] == 0.0)
+    assert e["kinetic"].max() > 0.5 * np.abs(e["input"]).max()
+
+
+def test_friction_dissipation(tmp_path_factory):
+    """μ = 0.05: the same pulse at 1.5 m/s² (breakaway needs about μg·2R/(2R − h) =
+    0.51 m/s²). While both surfaces slide, friction dissipates
+    μ W · 2R/(2R − h) per metre of relative travel (the quasi-static force of
+    test_fem_contact's friction pendulum), so over the run D ≈ μ W 2R/(2R − h) Σ|Δu|.
+    Tolerance 5 %: stick phases at the turning points and the vertical accelerations
+    (±0.5 % of g) change the normal force a little. The energy balance closes to 1 %."""
+    bearing = DFPBearing()
+    a = 5 * half_sine(2.0)
+    res = fem.simulate(
+        bearing, a, DT, max_step=0.02, mesh_options=COARSE,
+        cache_dir=tmp_path_factory.mktemp("meshes"),
+    )
+    assert not res.failed and not res.numerical_failure
+    e = res.energy
+    travel = np.abs(np.diff(res.displacement)).sum()
+    assert travel > 0.05  # it slid
+    expected = bearing.friction * bearing.weight * 2 * bearing.radius / bearing.effective_radius
+    assert e["friction"][-1] == pytest.approx(expected * travel, rel=0.05)
+    assert np.abs(e["residual"]).max() <= 0.01 * np.abs(e["input"]).max()
+
+
+def test_bad_input():
+    """Clear errors for a wrong bearing type, bad samples and inconsistent steps."""
+    with pytest.raises(TypeError):
+        fem.simulate("bearing", np.zeros(10), 0.01)
+    with pytest.raises(ValueError):
+        fem.simulate(DFPBearing(), np.array([0.0, np.nan, 0.0]), 0.01)
+    with pytest.raises(ValueError):
+        fem.simulate(DFPBearing(), np.zeros(10), -0.01)
+    with pytest.raises(ValueError):
+        fem.simulate(DFPBearing(), np.zeros(10), 0.01, max_step=1e-3, impact_step=1e-2)
