@@ -7,18 +7,23 @@ of the ground.
 
 Failure definitions (checked after every accepted step):
 
-* **yielding** — a *plastic hinge* at a rim root: every quadrature point of the rim's first
-  element row above its root, across the whole rim thickness, has yielded (p > 0). The root
-  section has then reached its plastic capacity under the combined shear and moment of the
-  impact (the mechanism of the paper's Figure 3, left; fem.md §5.4 gives M_p), so the rim
-  rotates as a mechanism instead of restraining the slider. A plastic zone confined to the
-  re-entrant corner at the root (a stress singularity) is not failure. A slider that escapes
-  past a rim with such a hinge also counts as yielding.
-* **uplift** — the slider escapes over a rim that has no hinge: a bottom (top) vertex of the
-  slider lies beyond the *deformed* inner top corner of a bottom (top) rim, horizontally
-  outside it and vertically past it; or its centroid passes a rim's inner face; or it
-  overturns (|Θ| > 45°). These are the rigid model's criteria (``rigid/_kernel.py``), applied
-  to the deformed rims.
+* **plastic hinge** — every quadrature point of a rim's first element row above its root,
+  across the whole rim thickness, has yielded (p > 0): the root section has reached its plastic
+  capacity under the combined shear and moment of the impact (the mechanism of the paper's
+  Figure 3, left; fem.md §5.4 gives M_p), and the rim turns into a mechanism instead of a
+  restraint. A plastic zone confined to the re-entrant corner at the root (a stress
+  singularity) is not a hinge. Hinge times are recorded for every rim.
+* **escape** — the slider gets past a rim: a bottom (top) vertex of the slider lies beyond the
+  *deformed* inner top corner of a bottom (top) rim, horizontally outside it and vertically
+  past it; or its centroid passes a rim's inner face; or it overturns (|Θ| > 45°). These are
+  the rigid model's criteria (``rigid/_kernel.py``), applied to the deformed rims.
+
+With ``failure_criterion="hinge"`` (default) the run fails by **yielding** at the first hinge,
+and by **uplift** if the slider escapes before any hinge forms. With ``"escape"`` only an
+escape is failure: **yielding** if it passed a rim with a hinge (the rim was pushed over),
+**uplift** otherwise (the slider climbed over a rim that still stood). The first is the
+engineering limit state (the restraint is lost once the hinge forms); the second follows the
+motion further, as far as the small-strain rims remain meaningful.
 """
 
 from __future__ import annotations
@@ -61,6 +66,8 @@ class FEMResult:
         Fraction of the root row's quadrature points that have yielded (1 = hinge).
     max_plastic_strain : float [-]
         Largest equivalent plastic strain anywhere, at the end.
+    hinge_times : dict
+        Rim name → time [s] its root section became fully plastic (only rims that did).
     energy : dict of ndarray [J]
         ``input``, ``kinetic``, ``strain``, ``plastic``, ``contact``, ``friction``,
         ``residual`` (3-D, i.e. times the depth), at ``time``.
@@ -96,6 +103,7 @@ class FEMResult:
     rim_root_plastic_strain: np.ndarray
     rim_root_yielded_fraction: np.ndarray
     max_plastic_strain: float
+    hinge_times: dict
     energy: dict
     failed: bool
     failure_mode: str | None
@@ -165,6 +173,7 @@ def simulate(
     penalty_factor: float = 10.0,
     stop_at_failure: bool = True,
     snapshot_every: int = 0,
+    failure_criterion: str = "hinge",
     cache_dir=None,
 ) -> FEMResult:
     """Run the plane-strain FE model of the DFP bearing on a horizontal ground acceleration.
@@ -193,6 +202,10 @@ def simulate(
         Stop at the first failure (default).
     snapshot_every : int
         Keep the full field every n accepted steps for movies (0: none).
+    failure_criterion : {"hinge", "escape"}
+        ``"hinge"``: failure by yielding as soon as a rim root is fully plastic (module
+        docstring). ``"escape"``: only the slider's escape is failure, labelled "yielding" if it
+        passed a rim with a hinge and "uplift" otherwise (the hinge times are still recorded).
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -212,6 +225,10 @@ def simulate(
     duration = record_end if duration is None else float(duration)
     if not (math.isfinite(duration) and duration > 0):
         raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
+    if failure_criterion not in ("hinge", "escape"):
+        raise ValueError(
+            f"failure_criterion must be 'hinge' or 'escape', got {failure_criterion!r}"
+        )
     if not (0 < impact_step <= max_step):
         raise ValueError("need 0 < impact_step ≤ max_step")
     t_grid = np.arange(a.size) * dt
@@ -252,6 +269,7 @@ def simulate(
         "t", "x", "z", "xs", "zs", "th", "shear", "dish", "rim", "root_p", "root_frac")}
     snaps = []
     failure: dict = {}
+    hinges: dict = {}
     z_top0 = [None]
 
     def observer(t, d, ev, state) -> bool:
@@ -281,10 +299,13 @@ def simulate(
         hist["root_frac"].append(frac)
         if snapshot_every and (len(hist["t"]) - 1) % snapshot_every == 0:
             snaps.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
+        for k, f in enumerate(frac):
+            if f >= 1.0 and RIMS[k] not in hinges:
+                hinges[RIMS[k]] = t
         if failure:
             return False
         mode, detail = _check_failure(
-            bearing, sysm, d, pose, vertices, corners, nd, frac
+            bearing, sysm, d, pose, vertices, corners, nd, frac, failure_criterion == "hinge"
         )
         if mode is not None:
             failure.update(mode=mode, detail=detail, time=t)
@@ -314,6 +335,7 @@ def simulate(
         rim_root_plastic_strain=H["root_p"],
         rim_root_yielded_fraction=H["root_frac"],
         max_plastic_strain=float(state.material.eq_plastic_strain.max()),
+        hinge_times=dict(hinges),
         energy={k: v * depth for k, v in out["energy"].items()},
         failed=bool(failure),
         failure_mode=failure.get("mode"),
@@ -335,11 +357,11 @@ def simulate(
     )
 
 
-def _check_failure(bearing, sysm, d, pose, vertices, corners, nd, frac):
+def _check_failure(bearing, sysm, d, pose, vertices, corners, nd, frac, stop_at_hinge):
     """(mode, detail) of a failure at this state, or (None, None). See the module docstring."""
     hinge = [f >= 1.0 for f in frac]
     for k, name in enumerate(RIMS):
-        if hinge[k]:
+        if hinge[k] and stop_at_hinge:
             return "yielding", f"plastic hinge across the root of the {name} rim"
     c, s = math.cos(pose[2]), math.sin(pose[2])
     vx = pose[0] + c * vertices[0] - s * vertices[1]
@@ -357,11 +379,12 @@ def _check_failure(bearing, sysm, d, pose, vertices, corners, nd, frac):
             past = (vz[j] < cz) if top else (vz[j] > cz)
             if outside and past:
                 which = "top" if top else "bottom"
-                return "uplift", f"a {which} slider vertex cleared the {name} rim"
+                mode = "yielding" if hinge[RIMS.index(name)] else "uplift"
+                return mode, f"a {which} slider vertex cleared the {name} rim"
     r_in = bearing.rim_radius
     x_top = float(np.mean(d[nd[0, corners["top -x"]]]))
     if abs(pose[0]) > r_in or abs(pose[0] - x_top) > r_in:
-        return "uplift", "the slider's centroid passed a rim"
+        return ("yielding" if any(hinge) else "uplift"), "the slider's centroid passed a rim"
     if abs(pose[2]) > 0.25 * math.pi:
         return "uplift", "the slider overturned (|θ| > 45°)"
     return None, None

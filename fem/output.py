@@ -1,0 +1,223 @@
+"""Output of FE results: VTU files for ParaView (meshio) and pictures (pyvista, off-screen).
+
+pyvista renders through Mesa EGL without a display (fem.md §1.1); the environment variable
+``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow`` is set before pyvista is imported. Heavy
+imports stay inside the functions so ``import fem`` stays light.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .contact import SliderShape, rotation
+from .material import von_mises
+
+FIELDS = {
+    "von_mises": "von Mises stress [MPa]",
+    "eq_plastic_strain": "equivalent plastic strain [-]",
+}
+
+
+def cell_fields(stress: np.ndarray, plastic_strain: np.ndarray) -> dict:
+    """Element averages of the von Mises stress [Pa] and equivalent plastic strain [-].
+
+    Parameters
+    ----------
+    stress : ndarray, shape (4, nelems, nqp) [Pa]
+    plastic_strain : ndarray, shape (nelems, nqp) [-]
+    """
+    return {
+        "von_mises": von_mises(stress).mean(axis=-1),
+        "eq_plastic_strain": np.asarray(plastic_strain).mean(axis=-1),
+    }
+
+
+def nodal_displacement(mesh, d_full: np.ndarray) -> np.ndarray:
+    """Plate displacements per mesh vertex, shape (2, nvertices) [m] (scikit-fem's vector Q1
+    numbers the dofs node by node: x, z)."""
+    n = mesh.p.shape[1]
+    return d_full[: 2 * n].reshape(n, 2).T
+
+
+def slider_outline(shape: SliderShape, pose, n: int = 48) -> np.ndarray:
+    """Closed outline of the slider section at a pose, shape (2, m) [m]."""
+    R, hw = shape.radius, shape.half_width
+    cb, ct = shape.centres
+    a = np.arcsin(hw / R)
+    s = np.linspace(-a, a, n)
+    bottom = cb[:, None] + R * np.array([np.sin(s), -np.cos(s)])
+    top = ct[:, None] + R * np.array([np.sin(s[::-1]), np.cos(s[::-1])])
+    xi = np.concatenate([bottom, top, bottom[:, :1]], axis=1)
+    return rotation(pose[2]) @ xi + np.asarray(pose[:2])[:, None]
+
+
+def write_vtu(path, mesh, d_full, stress, plastic_strain) -> Path:
+    """Write the deformed-state fields to a VTU file (ParaView).
+
+    Parameters
+    ----------
+    path : path-like
+    mesh : skfem.MeshQuad1
+    d_full : ndarray
+        Full dof vector (plates first) [m].
+    stress : ndarray, shape (4, nelems, nqp) [Pa]
+    plastic_strain : ndarray, shape (nelems, nqp) [-]
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    import meshio
+
+    u = nodal_displacement(mesh, d_full)
+    points = np.column_stack([mesh.p.T, np.zeros(mesh.p.shape[1])])
+    cells = cell_fields(stress, plastic_strain)
+    out = meshio.Mesh(
+        points,
+        [("quad", mesh.t.T.astype(np.int64))],
+        point_data={"displacement": np.column_stack([u.T, np.zeros(u.shape[1])])},
+        cell_data={k: [v] for k, v in cells.items()},
+    )
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meshio.write(str(path), out)
+    return path
+
+
+def _pyvista():
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    import pyvista
+
+    pyvista.OFF_SCREEN = True
+    return pyvista
+
+
+def _add_state(plotter, pv, mesh, shape, d_full, pose, stress, plastic, field, scale, clim):
+    u = nodal_displacement(mesh, d_full)
+    pts = np.column_stack([(mesh.p + scale * u).T, np.zeros(mesh.p.shape[1])])
+    faces = np.column_stack([np.full(mesh.t.shape[1], 4), mesh.t.T]).ravel()
+    grid = pv.PolyData(pts, faces)
+    values = cell_fields(stress, plastic)[field]
+    if field == "von_mises":
+        values = values / 1e6
+    grid.cell_data[FIELDS[field]] = values
+    plotter.add_mesh(
+        grid, scalars=FIELDS[field], cmap="turbo", clim=clim, show_edges=False,
+        scalar_bar_args={"title": FIELDS[field], "vertical": False, "n_labels": 4},
+    )
+    outline = slider_outline(shape, pose)
+    line = np.column_stack([outline.T, np.full(outline.shape[1], 0.001)])
+    plotter.add_lines(np.repeat(line, 2, axis=0)[1:-1], color="black", width=3)
+    plotter.view_xy()
+
+
+def render_state(
+    path,
+    mesh,
+    shape: SliderShape,
+    d_full,
+    pose,
+    stress,
+    plastic_strain,
+    *,
+    title: str = "",
+    scale: float = 1.0,
+    focus=None,
+    clims=None,
+    window=(1600, 1000),
+) -> Path:
+    """PNG of von Mises stress (top) and equivalent plastic strain (bottom) on the deformed
+    shape, with the slider's outline.
+
+    Parameters
+    ----------
+    path : path-like
+    mesh : skfem.MeshQuad1
+    shape : SliderShape
+    d_full : ndarray
+        Full dof vector [m].
+    pose : sequence of 3 floats [m, m, rad]
+        Slider pose.
+    stress, plastic_strain : ndarray
+        (4, nelems, nqp) [Pa] and (nelems, nqp) [-].
+    title : str
+    scale : float [-]
+        Displacement magnification of the plates (the slider is drawn at its true pose).
+    focus : (x, z, half_width) [m], optional
+        Zoom the camera on a region (e.g. a rim).
+    clims : dict, optional
+        Field → (min, max) colour limits (MPa for stress).
+    window : (int, int)
+        Image size in pixels.
+    """
+    pv = _pyvista()
+    clims = clims or {}
+    plotter = pv.Plotter(off_screen=True, shape=(2, 1), window_size=list(window))
+    for row, field in enumerate(("von_mises", "eq_plastic_strain")):
+        plotter.subplot(row, 0)
+        _add_state(
+            plotter, pv, mesh, shape, d_full, pose, stress, plastic_strain, field, scale,
+            clims.get(field),
+        )
+        if row == 0 and title:
+            plotter.add_text(title, font_size=12, color="black")
+        if focus is not None:
+            x, z, w = focus
+            plotter.camera.focal_point = (x, z, 0.0)
+            plotter.camera.position = (x, z, 10.0)
+            plotter.camera.parallel_projection = True
+            plotter.camera.parallel_scale = w
+            plotter.reset_camera_clipping_range()
+        plotter.set_background("white")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(path))
+    plotter.close()
+    return path
+
+
+def render_result(path, result, **kwargs) -> Path:
+    """:func:`render_state` of an :class:`fem.FEMResult`'s final state."""
+    shape = SliderShape.from_bearing(result.bearing)
+    n_plate = result.final_displacement.size - 3
+    pose = np.array([0.0, result.bearing.slider_height / 2, 0.0]) + result.final_displacement[
+        n_plate:
+    ]
+    return render_state(
+        path, result.mesh, shape, result.final_displacement, pose, result.final_stress,
+        result.final_plastic_strain, **kwargs,
+    )
+
+
+def render_movie(path, result, *, fps: int = 10, **kwargs) -> Path:
+    """Animated GIF of the snapshots of an :class:`fem.FEMResult` (``snapshot_every`` > 0).
+
+    Colour limits are fixed over the movie (0 … the run's largest value) unless given.
+    """
+    import imageio.v2 as imageio
+
+    if not result.snapshots:
+        raise ValueError("the result has no snapshots; run fem.simulate with snapshot_every > 0")
+    shape = SliderShape.from_bearing(result.bearing)
+    base = np.array([0.0, result.bearing.slider_height / 2, 0.0])
+    vm_max = max(float(von_mises(s[3]).max()) for s in result.snapshots) / 1e6
+    p_max = max(float(s[2].max()) for s in result.snapshots) or 1e-6
+    kwargs.setdefault("clims", {"von_mises": (0.0, vm_max), "eq_plastic_strain": (0.0, p_max)})
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    frames = []
+    tmp = path.with_suffix(".frame.png")
+    title = kwargs.pop("title", "")
+    for t, d, p, s in result.snapshots:
+        n_plate = d.size - 3
+        render_state(
+            tmp, result.mesh, shape, d, base + d[n_plate:], s, p,
+            title=f"{title}  t = {t:.3f} s", **kwargs,
+        )
+        frames.append(imageio.imread(tmp))
+    tmp.unlink(missing_ok=True)
+    imageio.mimsave(path, frames, duration=1.0 / fps, loop=0)
+    return path
