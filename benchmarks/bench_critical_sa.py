@@ -37,6 +37,7 @@ def main() -> None:
     res = critical_sas(bearing, motions, processes=args.processes, cache=args.cache,
                        search=args.search)
     wall = time.perf_counter() - t0
+    cpu = sum(r.cpu_seconds for r in res)  # processor time inside the simulations
     rungs = sum(len(r.rungs) for r in res)
     seconds = sum(m.duration for m in motions)
     crit = np.array([np.nan if r.sa is None else r.sa / rigid.G for r in res])
@@ -44,6 +45,8 @@ def main() -> None:
           f"{args.processes} processes; load average {os.getloadavg()[0]:.1f}")
     print(f"{args.set}, {len(motions)} components ({seconds:.0f} s of input), "
           f"{args.pressure / 1e6:g} MPa, {args.search} ladder")
+    print(f"simulation CPU {cpu:.0f} s, i.e. {cpu / args.processes:.0f} s of wall on "
+          f"{args.processes} idle cores (the wall time below includes other users' load)")
     print(f"wall {wall:.1f} s; {rungs} rungs ({wall / rungs * args.processes:.2f} s per rung "
           f"per process); critical SA median {np.nanmedian(crit):.2f} g, range "
           f"{np.nanmin(crit):.2f}-{np.nanmax(crit):.2f} g, {int(np.isnan(crit).sum())} without "

@@ -37,6 +37,7 @@ import json
 import math
 import os
 import tempfile
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -110,6 +111,8 @@ class CriticalSA:
     search : {"full", "fast"}
     rungs : tuple of Rung
         Every rung run, in increasing SA.
+    cpu_seconds : float [s]
+        Processor time spent simulating in this call (cached rungs cost nothing).
     """
 
     sa: float | None
@@ -122,6 +125,7 @@ class CriticalSA:
     stop: float
     search: str
     rungs: tuple
+    cpu_seconds: float = 0.0
 
     @property
     def failed(self) -> bool:
@@ -361,6 +365,7 @@ def critical_sa(
                    name)
 
     done: dict[int, Rung] = {}
+    cpu = [0.0]
 
     def rung(j: int) -> Rung:
         if j not in done:
@@ -368,7 +373,9 @@ def critical_sa(
             scale = sa / record_sa
             out = store.get(j)
             if out is None:
+                t0 = time.process_time()
                 out = _run_rung(bearing, acc, dt, scale, sim)
+                cpu[0] += time.process_time() - t0
                 store.put(j, out)
             done[j] = Rung(index=j, sa=sa, scale=scale, **out)
         return done[j]
@@ -397,6 +404,7 @@ def critical_sa(
         stop=float(start + (n_rungs - 1) * step),
         search=search,
         rungs=rungs,
+        cpu_seconds=cpu[0],
     )
 
 

@@ -28,7 +28,7 @@ from .spectra import pseudo_acceleration
 
 __all__ = ["PredictedSA", "PredictionRung", "predict_critical_sa", "pulse_region"]
 
-_SEARCHES = ("full", "fast")
+_SEARCHES = ("full", "fast", "bisect")
 
 
 @dataclass(frozen=True)
@@ -208,10 +208,13 @@ def predict_critical_sa(
         0.01 g to 3 g).
     region : callable, mapping, xarray.Dataset or None
         Where (Tp, Ap) falls (module docstring); default :class:`pulse_region` (simulation).
-    search : {"full", "fast"}
+    search : {"full", "fast", "bisect"}
         ``"full"``: every rung from the bottom. ``"fast"``: every ``coarse``-th rung up to the
         first in region 2, then the fine rungs of every coarse interval with an impact
         (region ≥ 1) at either end, lowest first (no failure without an impact).
+        ``"bisect"``: bisection over the rungs, which assumes that the failure region lies
+        above one boundary amplitude at this Tp, as an impact region spectrum draws it
+        (paper Fig. 8); about log2(rungs) region evaluations.
     coarse : int
         Rungs per coarse step of the fast search.
     weighting : {"1/sqrt(s)", "1/s", "1"}
@@ -267,6 +270,13 @@ def predict_critical_sa(
     first = None
     if search == "full":
         first = next((j for j in range(n_rungs) if rung(j).region == 2), None)
+    elif search == "bisect":
+        if rung(n_rungs - 1).region == 2:
+            lo, hi = -1, n_rungs - 1  # rung lo is below the boundary (or none), hi above
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                lo, hi = (lo, mid) if rung(mid).region == 2 else (mid, hi)
+            first = hi
     else:
         ends = []
         for j in range(coarse - 1, n_rungs + coarse - 1, coarse):

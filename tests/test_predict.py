@@ -67,6 +67,8 @@ def test_ladder_arithmetic_with_a_threshold_region():
     assert fast.sa == pred.sa and len(fast.rungs) < len(pred.rungs)
     by_kind = predict_critical_sa(LIGHT, acc, pulse, region={"antisymmetric": region}, dt=DT)
     assert by_kind.sa == pred.sa
+    bisect = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="bisect")
+    assert bisect.sa == pred.sa and len(bisect.rungs) <= 10  # ⌈log2 300⌉ + 1 evaluations
 
 
 def test_first_failure_of_a_non_monotone_region():
@@ -86,6 +88,11 @@ def test_first_failure_of_a_non_monotone_region():
     fast = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="fast")
     assert full.sa / G == pytest.approx(0.42, abs=1e-9)
     assert fast.sa == full.sa
+    # bisection assumes one boundary: it finds a failing rung with a survivor just below
+    bisect = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="bisect")
+    below = [r for r in bisect.rungs if r.index == round(bisect.sa / (0.01 * G)) - 2]
+    assert bisect.sa / G == pytest.approx(0.42, abs=1e-9) or bisect.sa / G >= 0.9 - 1e-9
+    assert below and below[0].region != 2
 
 
 def test_no_failure_up_to_stop_and_bad_region():
@@ -108,3 +115,32 @@ def test_pulse_region_by_simulation():
     assert where(2.0, -0.01 * G) == 0 and len(where._memo) == 1
     with pytest.raises(ValueError, match="kind"):
         pulse_region(LIGHT, "triangular")
+
+
+def _row(actual, predicted, tp):
+    return {"record": "r", "actual_sa_g": actual, "tp_4": tp, "predicted_sa_g_4": predicted,
+            "error_4": predicted / actual - 1 if not math.isnan(predicted) else math.nan}
+
+
+def test_table2_counts_and_figures(tmp_path):
+    """Table 2 counts |error| ≤ 20 % (the boundary included), splits at Tp = 0.5 s, leaves out
+    records without an actual failure and counts a missing prediction as not good; the
+    Fig. 11/12 plots write PNG files."""
+    from rigid.comparison import table2, write_csv
+    from rigid.prediction_plots import plot_comparison, plot_prediction
+
+    rows = [_row(1.0, 1.2, 2.0), _row(1.0, 1.25, 2.0), _row(0.5, 0.45, 0.4),
+            _row(0.5, math.nan, 0.3), _row(math.nan, 0.3, 1.0)]
+    for r in rows:
+        r["error_4"] = (r["predicted_sa_g_4"] / r["actual_sa_g"] - 1
+                        if not math.isnan(r["actual_sa_g"]) else math.nan)
+    t = table2(rows, 4)
+    assert t == {"all": (2, 4), "long": (1, 2), "short": (1, 2)}
+    assert write_csv(rows, tmp_path / "t.csv").read_text().count("\n") == 6
+    acc, pulse = _noise(), _pulse()
+    pred = predict_critical_sa(LIGHT, acc, pulse, region=lambda tp, ap: 2 if ap > 9 else 1,
+                               dt=DT)
+    plot_prediction(pred).savefig(tmp_path / "f11.png")
+    plot_comparison(rows, 4).savefig(tmp_path / "f12.png")
+    assert (tmp_path / "f11.png").stat().st_size > 1000
+    assert (tmp_path / "f12.png").stat().st_size > 1000

