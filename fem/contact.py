@@ -43,6 +43,11 @@ The curvature term N ∇²δ (exact for the arcs, zero for the flat sides) carri
 geometric stiffness; the analogous terms of the friction force (T times the change of τ) are
 of relative size μ δ/R and left out, which only slows Newton down negligibly.
 
+Limitation: only plate *nodes* are slaves. The slider's four vertices are not checked
+against the plates' facets, so a vertex pressed into a rim face (or into the re-entrant corner
+at a rim root) can sink between two rim nodes by up to about half a rim element; refine
+``rim_size`` where that matters. A vertex-to-segment pass would remove it.
+
 Units: SI; forces are per unit out-of-plane depth ([N/m]), moments [N·m/m].
 """
 

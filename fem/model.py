@@ -20,8 +20,9 @@ Failure definitions (checked after every accepted step):
 
 With ``failure_criterion="hinge"`` (default) the run fails by **yielding** at the first hinge,
 and by **uplift** if the slider escapes before any hinge forms. With ``"escape"`` only an
-escape is failure: **yielding** if it passed a rim with a hinge (the rim was pushed over),
-**uplift** otherwise (the slider climbed over a rim that still stood). The first is the
+escape is failure: **yielding** if the slider passed a hinged rim without rising above the
+rim's undeformed top corner (the rim was pushed out of its way), **uplift** if it climbed above
+it (over a rim that still stood, or stood enough to be climbed). The first is the
 engineering limit state (the restraint is lost once the hinge forms); the second follows the
 motion further, as far as the small-strain rims remain meaningful.
 """
@@ -205,7 +206,8 @@ def simulate(
     failure_criterion : {"hinge", "escape"}
         ``"hinge"``: failure by yielding as soon as a rim root is fully plastic (module
         docstring). ``"escape"``: only the slider's escape is failure, labelled "yielding" if it
-        passed a rim with a hinge and "uplift" otherwise (the hinge times are still recorded).
+        passed a hinged rim that was pushed out of its way, "uplift" if it climbed over (see
+        the module docstring; hinge times are still recorded).
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -379,7 +381,11 @@ def _check_failure(bearing, sysm, d, pose, vertices, corners, nd, frac, stop_at_
             past = (vz[j] < cz) if top else (vz[j] > cz)
             if outside and past:
                 which = "top" if top else "bottom"
-                mode = "yielding" if hinge[RIMS.index(name)] else "uplift"
+                # climbed above the rim's undeformed corner: uplift; passed only because the
+                # hinged rim was pushed out of the way: yielding
+                z0 = p[1, node]
+                climbed = (vz[j] < z0) if top else (vz[j] > z0)
+                mode = "yielding" if hinge[RIMS.index(name)] and not climbed else "uplift"
                 return mode, f"a {which} slider vertex cleared the {name} rim"
     r_in = bearing.rim_radius
     x_top = float(np.mean(d[nd[0, corners["top -x"]]]))
