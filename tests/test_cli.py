@@ -1,0 +1,95 @@
+"""The dfp command: one-line errors with a non-zero exit for bad input, and a small
+end-to-end validation run on a user manifest that writes the report and its data."""
+
+import csv
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from rigid import G, ricker_record
+
+
+def dfp(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "validation.cli", *args], capture_output=True,
+                          text=True, cwd=cwd, timeout=600)
+
+
+def _pulse_manifest(tmp_path, scale="1.0"):
+    _, a = ricker_record(0.2 * G, 2.5, "antisymmetric", dt=0.01, free=8.0)
+    np.savetxt(tmp_path / "pulse.txt", a / G)
+    manifest = tmp_path / "records.csv"
+    manifest.write_text(f"path,name,scale,dt,units\npulse.txt,pulse,{scale},0.01,g\n")
+    return manifest
+
+
+def _one_line_error(result, *words):
+    assert result.returncode != 0
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr  # no traceback
+    for w in words:
+        assert w in lines[0], lines[0]
+
+
+def test_missing_manifest(tmp_path):
+    _one_line_error(dfp("validate", "--manifest", str(tmp_path / "none.csv"), "--out",
+                        str(tmp_path / "o")), "none.csv")
+
+
+def test_malformed_record(tmp_path):
+    (tmp_path / "bad.txt").write_text("0.1\n0.2\nnot-a-number\n")
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("path,dt,units\nbad.txt,0.01,g\n")
+    _one_line_error(dfp("validate", "--manifest", str(manifest), "--out", str(tmp_path / "o")),
+                    "bad.txt", "line 3")
+
+
+def test_unknown_set(tmp_path):
+    _one_line_error(dfp("validate", "--set", "japan", "--out", str(tmp_path / "o")), "japan")
+
+
+def test_negative_scale(tmp_path):
+    manifest = _pulse_manifest(tmp_path, scale="-2")
+    _one_line_error(dfp("validate", "--manifest", str(manifest), "--out", str(tmp_path / "o")),
+                    "scale")
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root can write anywhere")
+def test_unwritable_output(tmp_path):
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    _one_line_error(dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--out",
+                        str(locked / "o")), "cannot write")
+
+
+def test_output_is_a_file(tmp_path):
+    (tmp_path / "file").write_text("")
+    _one_line_error(dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--out",
+                        str(tmp_path / "file")), "cannot write")
+
+
+def test_bad_number_from_argparse(tmp_path):
+    result = dfp("demo", "--period", "-1")
+    assert result.returncode == 2 and "must be positive" in result.stderr
+
+
+def test_validation_run_on_a_manifest(tmp_path):
+    """A Ricker pulse record: the report and CSVs are written, and the prediction of
+    criterion 4 lands within one 0.01 g rung of the actual critical SA (the method is exact
+    for a record that is its own pulse; tests/test_predict.py checks this in depth)."""
+    out = tmp_path / "run"
+    result = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",
+                 "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
+                 "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    assert (out / "report.html").stat().st_size > 10_000  # with embedded figures
+    with open(out / "comparison_10MPa.csv") as fh:
+        (row,) = list(csv.DictReader(fh))
+    actual, predicted = float(row["actual_sa_g"]), float(row["predicted_sa_g_4"])
+    assert actual > 0 and abs(predicted - actual) <= 0.01 + 1e-9
+    again = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",
+                "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
+                "--out", str(out))
+    assert again.returncode == 0 and again.stdout.splitlines()[1:] == result.stdout.splitlines()[1:]
