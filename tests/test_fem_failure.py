@@ -87,3 +87,43 @@ def test_rims_reached_when_the_rigid_model_says(heavy):
     assert rb.impacts and not rb.failed
     first = res.time[np.flatnonzero(res.rim_force.sum(axis=1) > 0)[0]]
     assert first == pytest.approx(rb.impacts[0].time, rel=0.02)
+
+
+def test_escape_criteria(tmp_path):
+    """The escape test on hand-made states of the coarse model (geometry from DFPBearing):
+    a bottom vertex beyond the +x bottom rim's corner and above it is uplift; the same vertex
+    past a corner pushed 10 mm outward and down by a hinged rim, but below the undeformed
+    corner, is yielding; a slider turned by more than 45° is uplift; at rest nothing fails."""
+    from fem.dfp import build_system
+    from fem.model import _check_failure, _corner_nodes
+
+    bearing = DFPBearing()
+    model = build_system(bearing, mesh_options=COARSE, cache_dir=tmp_path)
+    sysm = model.system
+    nd = sysm.fe.basis.nodal_dofs
+    corners = _corner_nodes(model.mesh, bearing)
+    vertices = sysm.shape.vertices
+    d = np.zeros(sysm.size)
+    half_b, half_e = vertices[0, 1], vertices[1, 3]  # right vertices; top z = +half_e
+    r_in, z_top = bearing.rim_radius, bearing.rim_top
+    no_hinge = [0.0] * 4
+
+    def check(pose, frac=no_hinge, disp=d):
+        return _check_failure(bearing, sysm, disp, np.asarray(pose), vertices, corners, nd,
+                              frac, False)[0]
+
+    rest = [0.0, bearing.slider_height / 2, 0.0]
+    assert check(rest) is None
+    # bottom-right vertex 5 mm outside and 5 mm above the corner (θ = 0)
+    climbed = [r_in + 0.005 - half_b, z_top + 0.005 + half_e, 0.0]
+    assert check(climbed) == "uplift"
+    # rim corner pushed 10 mm outward and 10 mm down; the vertex is past it but 5 mm below
+    # the undeformed corner
+    pushed = d.copy()
+    node = corners["bottom +x"]
+    pushed[nd[0, node]] = 0.010
+    pushed[nd[1, node]] = -0.010
+    past = [r_in + 0.015 - half_b, z_top - 0.005 + half_e, 0.0]
+    assert check(past, [0.0, 1.0, 0.0, 0.0], pushed) == "yielding"
+    assert check(past, no_hinge, pushed) == "uplift"  # no hinge: cannot be yielding
+    assert check([0.0, bearing.slider_height / 2, 0.9]) == "uplift"  # overturned
