@@ -28,10 +28,14 @@ def main() -> None:
     ap.add_argument("--search", choices=("full", "fast"), default="full")
     ap.add_argument("--processes", type=int, default=os.cpu_count())
     ap.add_argument("--records", type=int, default=None, help="only the first N components")
+    ap.add_argument("--pick", default=None,
+                    help="comma-separated record indices (0-based) instead of --records")
     ap.add_argument("--cache", default=None, help="rung cache directory (default: none)")
     args = ap.parse_args()
 
     motions = rigid.fema_p695(args.set)[: args.records]
+    if args.pick:
+        motions = [motions[int(i)] for i in args.pick.split(",")]
     bearing = rigid.DFPBearing(pressure=args.pressure)
     t0 = time.perf_counter()
     res = critical_sas(bearing, motions, processes=args.processes, cache=args.cache,
@@ -47,6 +51,9 @@ def main() -> None:
           f"{args.pressure / 1e6:g} MPa, {args.search} ladder")
     print(f"simulation CPU {cpu:.0f} s, i.e. {cpu / args.processes:.0f} s of wall on "
           f"{args.processes} idle cores (the wall time below includes other users' load)")
+    sim_seconds = sum(len(r.rungs) * m.duration for r, m in zip(res, motions, strict=True))
+    print(f"simulation CPU per rung {cpu / rungs:.2f} s, per second of record "
+          f"{cpu / sim_seconds * 1e3:.1f} ms")
     print(f"wall {wall:.1f} s; {rungs} rungs ({wall / rungs * args.processes:.2f} s per rung "
           f"per process); critical SA median {np.nanmedian(crit):.2f} g, range "
           f"{np.nanmin(crit):.2f}-{np.nanmax(crit):.2f} g, {int(np.isnan(crit).sum())} without "

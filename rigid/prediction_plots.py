@@ -61,6 +61,7 @@ def plot_prediction(pred, spectrum=None, actual=None, ax=None):
     if pred.sa is not None:
         ax.annotate(f"SA = {pred.sa / G:.2f} g", (x, pred.critical_amplitude / G),
                     xytext=(8, 0), textcoords="offset points", va="center", fontsize=8)
+    ax.set_xlim(0.0, max(6.0, 1.2 * x))  # the paper's abscissa range (Tp ≥ 0.75 s)
     ax.set_xlabel("Tb / Tp")
     ax.set_ylabel("pulse amplitude Ap [g]")
     title = f"{pred.name}: {pred.pulse.kind}, Tp = {pred.pulse.period:.2f} s"
