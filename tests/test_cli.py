@@ -93,3 +93,17 @@ def test_validation_run_on_a_manifest(tmp_path):
                 "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
                 "--out", str(out))
     assert again.returncode == 0 and again.stdout.splitlines()[1:] == result.stdout.splitlines()[1:]
+
+
+def test_simulate_pulses_and_critical_sa_on_a_record(tmp_path):
+    """The single-record subcommands run on a plain-text record and write their plots."""
+    _pulse_manifest(tmp_path)
+    record = ["--record", str(tmp_path / "pulse.txt"), "--dt", "0.01", "--units", "g"]
+    sim = dfp("simulate", *record, "--scale", "2", "--out", str(tmp_path / "s"))
+    assert sim.returncode == 0, sim.stderr
+    assert "rim impact" in sim.stdout and (tmp_path / "s" / "response.png").exists()
+    pulses = dfp("pulses", *record, "--out", str(tmp_path / "p"))
+    assert pulses.returncode == 0, pulses.stderr
+    assert pulses.stdout.count("antisymmetric") == 4  # every criterion finds the pulse itself
+    crit = dfp("critical-sa", *record, "--search", "fast", "--after-failure", "0")
+    assert crit.returncode == 0 and "critical SA" in crit.stdout and "predicted SA" in crit.stdout

@@ -39,27 +39,82 @@ def _output_folder(path: str) -> Path:
     return folder
 
 
-def demo(args) -> int:
-    """Run one Ricker pulse through the rigid model, print impacts and failure, plot."""
+def _bearing(args):
     import dataclasses
 
-    from rigid import DFPBearing, G, ricker_record, simulate
+    from rigid import DFPBearing
+
+    return dataclasses.replace(DFPBearing(), pressure=args.pressure * 1e6)
+
+
+def _record(args):
+    from rigid import read_record
+
+    if not Path(args.record).exists():
+        raise CommandError(f"record file {args.record} does not exist")
+    return read_record(args.record, dt=args.dt, units=args.units)
+
+
+def simulate(args) -> int:
+    """Run the rigid model on a Ricker pulse or a record; print impacts and failure; plot."""
+    from rigid import G, ricker_record
+    from rigid import simulate as run
     from rigid.plots import plot_response
 
     out = _output_folder(args.out)
-    bearing = dataclasses.replace(DFPBearing(), pressure=args.pressure * 1e6)
-    dt = 0.005
-    _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
-    result = simulate(bearing, acceleration, dt)
+    bearing = _bearing(args)
     print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
           f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
           f" period {bearing.period:.2f} s)")
-    print(f"{args.kind} Ricker pulse, Ap = {args.amplitude:g} g, Tp = {args.period:g} s")
+    if args.record:
+        motion = _record(args)
+        dt, acceleration = motion.dt, args.scale * motion.acceleration
+        title = f"{args.pressure:g} MPa, {motion.name} × {args.scale:g}"
+    else:
+        dt = 0.005
+        _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
+        title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
+                 f"Tp = {args.period:g} s")
+    print(title)
+    result = run(bearing, acceleration, dt)
     print(result.summary())
-    title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
-             f"Tp = {args.period:g} s")
-    path = plot_response(result, out / "demo_response.png", title=title)
+    path = plot_response(result, out / "response.png", title=title)
     print(f"plot: {path}")
+    return 0
+
+
+def pulses(args) -> int:
+    """Extract the best Ricker pulse of a record by each criterion of paper §4.1; plot."""
+    from rigid import G, best_pulse
+    from rigid.plotting_records import plot_record_pulses
+
+    out = _output_folder(args.out)
+    motion = _record(args)
+    found = []
+    print(f"{motion.name}: dt = {motion.dt:g} s, {motion.acceleration.size} samples")
+    print("criterion  kind           Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
+    for criterion in (1, 2, 3, 4):
+        p = best_pulse(motion, criterion=criterion, weighting=args.weighting)
+        found.append(p)
+        print(f"{criterion:9d}  {p.kind:13s} {p.period:7.3f} {p.amplitude / G:8.3f} "
+              f"{p.time:8.2f} {p.e_a:7.3f} {p.e_v:7.3f}")
+    path = plot_record_pulses(motion, found, out / "pulses.png", title=motion.name)
+    print(f"plot: {path}")
+    return 0
+
+
+def critical(args) -> int:
+    """Critical SA(4.5 s) of a record by the 0.01 g ladder, and its pulse prediction."""
+    from rigid import G, critical_sa, predict_critical_sa
+
+    bearing = _bearing(args)
+    motion = _record(args)
+    actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
+                         after_failure=args.after_failure)
+    print(actual.summary())
+    predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
+                                    stop=args.stop * G, search=args.search)
+    print(predicted.summary())
     return 0
 
 
@@ -112,6 +167,18 @@ def validate(args) -> int:
     return 0
 
 
+def _bearing_args(p):
+    p.add_argument("--pressure", type=_positive(float), default=10.0,
+                   help="slider pressure [MPa] (paper: 60 heavy, 10 light; default 10)")
+
+
+def _record_args(p, required):
+    p.add_argument("--record", required=required,
+                   help="record file (PEER AT2, K-NET, JMA CSV or plain text)")
+    p.add_argument("--dt", type=_positive(float), help="time step [s] of a plain text record")
+    p.add_argument("--units", help="units of a plain text record (g, m/s2, gal, ...)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="dfp",
@@ -119,17 +186,41 @@ def build_parser() -> argparse.ArgumentParser:
         "(Bao & Becker 2016, reproduced and extended).",
     )
     sub = parser.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("demo", help="one Ricker pulse through the rigid model, with a plot",
-                       description=demo.__doc__)
-    p.add_argument("--pressure", type=_positive(float), default=10.0,
-                   help="slider pressure [MPa] (paper: 60 heavy, 10 light; default 10)")
-    p.add_argument("--amplitude", type=_positive(float), default=0.8,
-                   help="pulse amplitude Ap [g] (default 0.8)")
-    p.add_argument("--period", type=_positive(float), default=3.0,
-                   help="pulse period Tp [s] (default 3)")
-    p.add_argument("--kind", choices=KINDS, default="symmetric", help="Ricker pulse shape")
-    p.add_argument("--out", default="dfp-demo", help="output folder (default ./dfp-demo)")
-    p.set_defaults(func=demo)
+    for name, helptext in (("simulate", "the rigid model on a Ricker pulse or a record"),
+                           ("demo", "the same as simulate (the first example of the README)")):
+        p = sub.add_parser(name, help=helptext, description=simulate.__doc__)
+        _bearing_args(p)
+        p.add_argument("--amplitude", type=_positive(float), default=0.8,
+                       help="pulse amplitude Ap [g] (default 0.8)")
+        p.add_argument("--period", type=_positive(float), default=3.0,
+                       help="pulse period Tp [s] (default 3)")
+        p.add_argument("--kind", choices=KINDS, default="symmetric", help="Ricker pulse shape")
+        _record_args(p, required=False)
+        p.add_argument("--scale", type=_positive(float), default=1.0,
+                       help="scale factor of the record (default 1)")
+        p.add_argument("--out", default="dfp-simulate", help="output folder")
+        p.set_defaults(func=simulate)
+
+    p = sub.add_parser("pulses", help="best Ricker pulses of a record (criteria 1-4)",
+                       description=pulses.__doc__)
+    _record_args(p, required=True)
+    p.add_argument("--weighting", choices=("1/sqrt(s)", "1/s", "1"), default="1/sqrt(s)",
+                   help="wavelet weighting w(s) (default 1/sqrt(s), the unbiased one)")
+    p.add_argument("--out", default="dfp-pulses", help="output folder")
+    p.set_defaults(func=pulses)
+
+    p = sub.add_parser("critical-sa", help="critical SA(4.5 s) of a record and its prediction",
+                       description=critical.__doc__)
+    _bearing_args(p)
+    _record_args(p, required=True)
+    p.add_argument("--stop", type=_positive(float), default=2.0,
+                   help="highest SA(4.5 s) of the ladder [g] (default 2)")
+    p.add_argument("--search", choices=("fast", "full"), default="full", help="ladder search")
+    p.add_argument("--after-failure", type=int, default=10,
+                   help="rungs run above the first failure, to show resurrections (default 10)")
+    p.add_argument("--criterion", type=int, choices=(1, 2, 3, 4), default=4,
+                   help="pulse selection criterion of the prediction (default 4)")
+    p.set_defaults(func=critical)
 
     p = sub.add_parser("validate", help="critical SA and its prediction over a record set",
                        description=validate.__doc__)
