@@ -115,9 +115,12 @@ class CoupledSystem:
         )
         np.add.at(f, self.node_dofs.ravel(), -con.node_force.ravel())
         f[self.slider_dofs] -= con.slider_force
-        K = sp.block_diag((self.fe.stiffness(mat.tangent), sp.csr_matrix((3, 3))), format="csr")
-        K = K + C.assemble(con.stiffness, self.node_dofs, self.slider_dofs, self.size)
-        return Evaluation(f, K.tocsr(), mat, con, f_mat)
+        Km = self.fe.stiffness(mat.tangent)
+        # pad the plate matrix with three empty rows/columns for the slider (no copy)
+        indptr = np.concatenate([Km.indptr, np.full(3, Km.indptr[-1], dtype=Km.indptr.dtype)])
+        Km = sp.csr_matrix((Km.data, Km.indices, indptr), shape=(self.size, self.size))
+        K = Km + C.assemble(con.stiffness, self.node_dofs, self.slider_dofs, self.size)
+        return Evaluation(f, K, mat, con, f_mat)
 
 
 class Reduction:
