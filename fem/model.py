@@ -25,6 +25,14 @@ rim's undeformed top corner (the rim was pushed out of its way), **uplift** if i
 it (over a rim that still stood, or stood enough to be climbed). The first is the
 engineering limit state (the restraint is lost once the hinge forms); the second follows the
 motion further, as far as the small-strain rims remain meaningful.
+
+Which mode comes first (a statics estimate): at the rims the slider is pushed by a couple of
+rim forces F, one near each rim root, about h apart; it tips (uplift) once F·h exceeds the
+resisting couple W·b of the supported load, F ≥ W b/h. A rim root can carry at most about its
+plastic shear force t·f_y/√3 per unit depth (less with the moment), so uplift before the rims
+yield needs t ≳ √3 p b²/(h f_y) (W/depth = p·b): 40 mm at 10 MPa and 240 mm at 60 MPa for the
+baseline bearing. The assumed 40 mm rims are at the threshold for the light bearing, and in
+the runs made so far (docs/images/fem_light_*) its rims yield first.
 """
 
 from __future__ import annotations
