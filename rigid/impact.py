@@ -541,7 +541,8 @@ def _scan_transition(f, k, start, step, tol, a_max):
     return lo, hi
 
 
-def _bisect_task(bearing, settings, cache_path, kind, periods, a_max, tol, scan_step):
+def _bisect_task(bearing, settings, cache_path, kind, periods, a_max, tol, scan_step,
+                 failure=True):
     """Both boundaries for consecutive periods: impact by bisection from the previous period's
     boundary, failure by an upward scan from the impact boundary then bisection."""
     ev = Evaluator(bearing, settings, cache_path)
@@ -556,8 +557,8 @@ def _bisect_task(bearing, settings, cache_path, kind, periods, a_max, tol, scan_
             return evals[a]
 
         lo_i, hi_i = _find_transition(f, IMPACT, evals, guess_i, tol, a_max)
-        if hi_i is None:
-            lo_f, hi_f = lo_i, None
+        if hi_i is None or not failure:
+            lo_f, hi_f = (lo_i, None) if failure else (math.nan, math.nan)
         elif scan_step is None:
             lo_f, hi_f = _find_transition(f, FAILURE, evals, guess_f, tol, a_max)
         else:
@@ -583,14 +584,15 @@ def _bisect_task(bearing, settings, cache_path, kind, periods, a_max, tol, scan_
 BISECTION_CHUNK = 10
 
 
-def _boundaries_many(specs, settings, a_max, tol, scan_step, workers, progress, cache):
+def _boundaries_many(specs, settings, a_max, tol, scan_step, workers, progress, cache,
+                     failure=True):
     """Bisection for several (bearing, kind, periods) in one process pool."""
     path = resolve_cache(cache)
     jobs, owners = [], []
     for s, (bearing, kind, periods) in enumerate(specs):
         for i in range(0, len(periods), BISECTION_CHUNK):
             jobs.append((bearing, settings, path, kind, list(periods[i : i + BISECTION_CHUNK]),
-                         a_max, tol, scan_step))
+                         a_max, tol, scan_step, failure))
             owners.append(s)
     results = run_parallel(_bisect_task, jobs, [len(j[4]) for j in jobs], workers=workers,
                            progress=progress, desc="region boundaries")
@@ -640,9 +642,10 @@ def region_boundaries(
     kind: str,
     periods=None,
     *,
-    amplitude_max: float = 1.5 * G,
+    amplitude_max: float = 1.0 * G,
     tolerance: float = 0.005 * G,
     scan_step: float | None = 0.05 * G,
+    failure: bool = True,
     settings: SweepSettings | None = None,
     workers: int | None = None,
     progress: bool | None = None,
@@ -678,6 +681,8 @@ def region_boundaries(
         Half-width of the final bracket (default 0.005 g).
     scan_step : float or None [m/s²]
         Step of the upward scan for the failure boundary (see above).
+    failure : bool
+        Also find the failure boundary (else its variables are NaN).
     settings, workers, progress, cache
         As in :func:`impact_velocity_spectrum`.
 
@@ -696,7 +701,7 @@ def region_boundaries(
     if scan_step is not None and not scan_step > 2 * tolerance:
         raise ValueError("scan_step must exceed twice the tolerance")
     rows, stats = _boundaries_many([(bearing, kind, periods)], settings, amplitude_max,
-                                   tolerance, scan_step, workers, progress, cache)
+                                   tolerance, scan_step, workers, progress, cache, failure)
     return _boundary_dataset(bearing, kind, periods, rows[0], settings, amplitude_max,
                              tolerance, stats[0])
 
@@ -709,9 +714,10 @@ def design_chart(
     kind: str,
     ratios=None,
     *,
-    amplitude_max: float = 1.5 * G,
+    amplitude_max: float = 1.0 * G,
     tolerance: float = 0.005 * G,
     scan_step: float | None = 0.05 * G,
+    failure: bool = True,
     settings: SweepSettings | None = None,
     workers: int | None = None,
     progress: bool | None = None,
@@ -732,7 +738,7 @@ def design_chart(
     kind : {"symmetric", "antisymmetric"}
     ratios : array_like [-], optional
         Tb/Tp values; default 40 from Tb/7.5 s to 6.
-    amplitude_max, tolerance, scan_step, settings, workers, progress, cache
+    amplitude_max, tolerance, scan_step, failure, settings, workers, progress, cache
         As in :func:`region_boundaries`.
 
     Returns
@@ -760,7 +766,7 @@ def design_chart(
     settings = SweepSettings() if settings is None else settings
     rows, _stats = _boundaries_many([(b, kind, periods) for b in bearings], settings,
                                     amplitude_max, tolerance, scan_step, workers, progress,
-                                    cache)
+                                    cache, failure)
     order = np.argsort(tb / periods)  # rows follow ascending period; chart ascending ratio
 
     def boundary(r, name):

@@ -387,6 +387,11 @@ def run_parallel(
                 results[i] = f.result()
                 bar.update(sizes[i])
         except BaseException:
+            # Ctrl-C reaches the workers too on a terminal, but not when only this process is
+            # signalled; stop them so that exit does not wait for their running tasks (every
+            # finished cell is already in the cache).
+            for proc in list((getattr(ex, "_processes", None) or {}).values()):
+                proc.terminate()
             ex.shutdown(wait=False, cancel_futures=True)
             raise
         ex.shutdown(wait=True)
