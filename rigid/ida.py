@@ -17,9 +17,10 @@ No trimming. Quiet leading or trailing segments are kept. Dropping even *exactly
 leading samples is not exactly harmless: the untrimmed run idles at the static state, which
 the kernel keeps only to round-off (< 1e-9 m), and near failure the rigid model amplifies
 that (a synthetic case moved its failure time by 0.3 ms). Trailing segments can add energy.
-None of the FEMA P695 records has a zero leading or trailing sample anyway. After the record
-ends, ``simulate(stop_when_quiet=True)`` stops once no rim can be reached, which keeps impacts
-and failure exact and is where the time is saved.
+None of the FEMA P695 records has a zero leading or trailing sample anyway. Each run goes on
+for up to ``free`` seconds after the record (ground at rest), because a bearing still swinging
+can hit a rim or escape then, and ``simulate(stop_when_quiet=True)`` ends it as soon as no rim
+can be reached, which keeps impacts and failure exact and is where the time is saved.
 
 Cache. Finished rungs are stored as JSON, one file per ladder, under ``cache`` (a directory;
 ``True`` means ``$DFP_FAILURE_CACHE`` or else ``~/.cache/dfp-failure/ida``). The file name is a
@@ -249,9 +250,11 @@ def _as_record(motion, dt):
 def _run_rung(bearing, acc, dt, scale, sim) -> dict:
     from .model import NumericalInstabilityError, simulate
 
+    sim = dict(sim)
+    duration = (acc.size - 1) * dt + sim.pop("free")
     try:
-        r = simulate(bearing, acc * scale, dt, stop_at_failure=True, stop_when_quiet=True,
-                     record_every=max(1, acc.size), **sim)
+        r = simulate(bearing, acc * scale, dt, duration=duration, stop_at_failure=True,
+                     stop_when_quiet=True, record_every=max(1, acc.size), **sim)
     except NumericalInstabilityError:
         return {"failed": False, "numerical_failure": True, "failure_time": None,
                 "impacts": 0, "max_impact_velocity": float("nan"), "max_uplift": float("nan")}
@@ -279,6 +282,7 @@ def critical_sa(
     period: float | None = None,
     damping: float = 0.05,
     dt: float | None = None,
+    free: float = 20.0,
     cache=None,
     max_step: float | None = None,
     impact_merge_time: float = 0.05,
@@ -319,11 +323,15 @@ def critical_sa(
         Damping ratio of the scaling spectrum (5 %).
     dt : float [s], optional
         Time step when ``motion`` is an array.
+    free : float [s]
+        Longest time simulated after the record ends (ground at rest): a bearing still
+        swinging can hit a rim or escape then. Each run stops earlier once no rim can be
+        reached (``stop_when_quiet``), so this costs time only when it matters.
     cache : None, True, str or Path
         Directory of the rung cache (see the module docstring); None disables it.
     max_step, impact_merge_time, coarse_factor
         Passed to :func:`rigid.simulate` (which runs with ``stop_when_quiet=True``,
-        ``stop_at_failure=True`` and ``on_instability="refine"``).
+        ``stop_at_failure=True`` and ``on_instability="refine"``, for the record plus ``free``).
 
     Returns
     -------
@@ -354,8 +362,10 @@ def critical_sa(
         raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
     n_rungs = math.floor((stop - start) / step + 1e-9) + 1
 
+    if not (math.isfinite(free) and free >= 0):
+        raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
     sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
-           "coarse_factor": coarse_factor, "on_instability": "refine"}
+           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free)}
     if sim["max_step"] is None:
         from .model import DEFAULT_MAX_STEP
 

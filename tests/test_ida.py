@@ -149,3 +149,5 @@ def test_bad_input():
         critical_sa(LIGHT, acc, STEP)
     with pytest.raises(ValueError, match="after_failure"):
         critical_sa(LIGHT, acc, STEP, dt=DT, after_failure=-1)
+    with pytest.raises(ValueError, match="free"):
+        critical_sa(LIGHT, acc, STEP, dt=DT, free=-1.0)

@@ -23,7 +23,12 @@ STEP = 0.05 * G
 def test_prediction_is_exact_for_a_pure_pulse(kind, period, criterion):
     """A record that *is* a Ricker pulse: the prediction equals the time-history critical SA
     within one ladder step (the issue's tolerance: the method is exact for its own
-    assumptions; what remains is the pulse's resampling and the extraction's ~1e-8 error)."""
+    assumptions; what remains is the pulse's resampling and the extraction's ~1e-8 error),
+    here on 0.05 g ladders. Not at 0.01 g: near the threshold the rigid model's verdict flips
+    under round-off-level changes of the input (the symmetric case fails at 0.63 g when the
+    pulse is computed as ricker(k·Ap) and survives as k·ricker(Ap), a 1e-16 difference), so
+    the 0.01 g answers differ by two rungs (0.62 against 0.64 g) for reasons that are not the
+    method's; see docs/critical_sa.md."""
     _, a = ricker_record(1.0, period, kind, dt=DT, free=5.0)
     actual = critical_sa(LIGHT, a, STEP, dt=DT)
     pred = predict_critical_sa(LIGHT, a, criterion=criterion, step=STEP, dt=DT)
