@@ -17,7 +17,9 @@ spectra of :mod:`rigid.impact` are built from cells. Three things make sweeps pr
   processes write concurrently; the file is safe to delete at any time.
 * **Processes.** Cells run in a :class:`concurrent.futures.ProcessPoolExecutor` with the
   ``spawn`` context (Numba and ``fork`` do not mix well); each worker loads the compiled
-  kernel from Numba's on-disk cache once.
+  kernel from Numba's on-disk cache once. As with any spawn pool, a script that runs a
+  sweep with more than one worker needs the ``if __name__ == "__main__":`` guard. On Ctrl-C
+  (or any error) the pending tasks are cancelled and the workers terminated.
 
 The default cache file is ``$DFP_CACHE_DIR/impact-cells.sqlite``, else
 ``~/.cache/dfp-failure/impact-cells.sqlite``.
