@@ -200,6 +200,48 @@ def test_cache_resumes_and_keys_on_every_input(tmp_path):
     assert miss.attrs["cells_computed"] == 4
 
 
+def _cached_cells(path):
+    import sqlite3
+
+    if not path.exists():
+        return 0
+    try:
+        with sqlite3.connect(path, timeout=5) as db:
+            return db.execute("SELECT COUNT(*) FROM cells").fetchone()[0]
+    except sqlite3.OperationalError:  # table not created yet
+        return 0
+
+
+def test_ctrl_c_keeps_finished_cells_and_the_rerun_computes_only_the_rest(tmp_path):
+    """A sweep in another process is interrupted (SIGINT) once two cells are cached: it stops
+    with KeyboardInterrupt, and the rerun computes exactly the cells that were missing."""
+    import signal
+    import time
+
+    path = tmp_path / "i.sqlite"
+    periods, amps = [0.6, 0.65, 0.7, 0.75, 0.8], [G * a for a in (0.1, 0.2, 0.3, 0.4, 0.5, 0.6)]
+    code = (
+        "import signal; signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "from rigid import DFPBearing, impact_region_spectrum\n"
+        f"impact_region_spectrum(DFPBearing(pressure=10e6), 'symmetric', {periods!r}, "
+        f"{amps!r}, workers=1, cache={str(path)!r}, progress=False)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", code], stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while _cached_cells(path) < 2:
+        assert proc.poll() is None and time.monotonic() < deadline
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode != 0 and "KeyboardInterrupt" in err
+    done = _cached_cells(path)
+    total = len(periods) * len(amps)
+    assert 2 <= done < total
+    ds = impact_region_spectrum(LIGHT, "symmetric", periods, amps, workers=1, cache=path,
+                                progress=False)
+    assert (ds.attrs["cells_computed"], ds.attrs["cells_reused"]) == (total - done, done)
+
+
 def test_process_pool_gives_the_serial_result(tmp_path):
     """Two spawned workers, no cache: identical cells (the model is deterministic)."""
     periods, amps = [1.0, 1.25, 1.5], [0.6 * G, 0.9 * G]
