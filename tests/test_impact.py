@@ -325,14 +325,14 @@ def test_design_chart_collapses_without_friction(cache):
     """μ = 0: the pendulum is linear up to the rims, so impact occurs when Ap·Tp²/d_cap
     reaches Tp²/Sd(Ap = 1) (dimensional analysis), whatever the capacity. Oracle: the
     undamped spectral displacement at T = bearing.period. Tolerance: the bisection bracket
-    (± 0.005 g, as Π) plus 1 % for the circular (not parabolic) dish and the rim contact
-    geometry at 0.5–0.6 m."""
+    (± 0.0005 g, as Π: 0.1–0.9 %) plus 1 % for the circular (not parabolic) dish and the rim
+    contact geometry at 0.5–0.6 m (measured: 0.2–0.6 % above the oracle)."""
     base = dataclasses.replace(LIGHT, friction=0.0, rim_friction=0.0)
     cases = [dataclasses.replace(base, capacity=c) for c in (0.25, 0.30)]
     ratios = np.array([1.5, 3.0])
     settings = SweepSettings(free=3.0)
     chart = design_chart(cases, "antisymmetric", ratios, amplitude_max=1.0 * G,
-                         tolerance=0.005 * G, failure=False, settings=settings, workers=1,
+                         tolerance=0.0005 * G, failure=False, settings=settings, workers=1,
                          cache=cache, progress=False)
     tp = chart.period.values
     for j, p in enumerate(tp):
@@ -341,7 +341,7 @@ def test_design_chart_collapses_without_friction(cache):
         expected = p**2 / sd_unit
         for c, b in enumerate(cases):
             pi = float(chart.impact_pi[c, j])
-            tol_pi = 0.005 * G * p**2 / b.displacement_capacity
+            tol_pi = 0.0005 * G * p**2 / b.displacement_capacity
             assert pi == pytest.approx(expected, abs=tol_pi + 0.01 * expected), (c, p)
 
 
