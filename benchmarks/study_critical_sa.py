@@ -10,8 +10,9 @@ simulating the pulse at its own Tp), then writes to ``--out``:
 - ``table2_<set>.csv``              share of predictions within 20 % (paper Table 2);
 - ``fig11_<set>_<MPa>.png``, ``fig12_<set>_<MPa>.png``, ``fragility_<set>_<MPa>.png``;
 - ``collapse_margin_<set>.txt``     lognormal fit, CMR/ACMR (per-record and set scaling);
-- ``fast_vs_full_<set>.csv``        with ``--check-full N``: fast and full ladders compared
-  on the N records of lowest critical SA per pressure (their full ladders are the shortest).
+- ``fast_vs_full_<set>_<MPa>_<N>.csv`` with ``--check-full N``: fast and full ladders
+  compared on the N records of lowest critical SA per pressure (the shortest full ladders);
+  ``--check-only`` skips everything else.
 
 Run (about 20 min per pressure on 2 busy cores with the fast search)::
 
@@ -98,6 +99,8 @@ def main() -> None:
     ap.add_argument("--check-full", type=int, default=0,
                     help="compare fast and full ladders on the N records with the lowest "
                          "critical SA (the cheapest full ladders), per pressure")
+    ap.add_argument("--check-only", action="store_true",
+                    help="only the fast/full comparison (no tables, figures or predictions)")
     ap.add_argument("--cache", default=str(rigid.ida.default_cache_dir()))
     ap.add_argument("--out", default="docs/results")
     ap.add_argument("--sdc", default="dmax", help="SDC for S_MT and the SSF")
@@ -115,9 +118,19 @@ def main() -> None:
         t = time.perf_counter()
         actual[b.pressure] = critical_sas(b, motions, processes=args.processes, cache=args.cache,
                                           search=args.search, after_failure=args.after_failure)
+        cpu = sum(r.cpu_seconds for r in actual[b.pressure])
         print(f"{b.pressure / 1e6:g} MPa: actual critical SA of {len(motions)} records in "
-              f"{time.perf_counter() - t:.0f} s ({args.search} search)", flush=True)
+              f"{time.perf_counter() - t:.0f} s ({args.search} search; simulation CPU "
+              f"{cpu:.0f} s for the rungs not in the cache)", flush=True)
 
+    if not args.check_only:
+        _study(args, motions, bearings, actual, out, tag)
+    if args.check_full:
+        _check_full(args, motions, bearings, actual, out, tag)
+    print(f"total {time.perf_counter() - t0:.0f} s; outputs in {out}")
+
+
+def _study(args, motions, bearings, actual, out, tag):
     t = time.perf_counter()
     preds = predictions(motions, bearings, args.criteria, args.predict_search, args.processes,
                         args.cache)
@@ -154,25 +167,27 @@ def main() -> None:
     (out / f"collapse_margin_{tag}.txt").write_text("\n".join(cm_lines) + "\n")
     print("\n".join(cm_lines))
 
-    if args.check_full:
-        rows = []
-        for b in bearings:
-            act = actual[b.pressure]
-            order = sorted(range(len(act)), key=lambda i: np.inf if act[i].sa is None
-                           else act[i].sa)[: args.check_full]
-            fulls = critical_sas(b, [motions[i] for i in order], processes=args.processes,
-                                 cache=args.cache, search="full")
-            for i, full in zip(order, fulls, strict=True):
-                a = act[i]
-                rows.append({"pressure_MPa": b.pressure / 1e6, "record": a.name,
-                             "fast_sa_g": np.nan if a.sa is None else a.sa / G,
-                             "full_sa_g": np.nan if full.sa is None else full.sa / G,
-                             "fast_rungs": len(a.rungs), "full_rungs": len(full.rungs),
-                             "same": a.sa == full.sa})
-                print(f"{b.pressure / 1e6:g} MPa {a.name}: fast {rows[-1]['fast_sa_g']:.2f} g, "
-                      f"full {rows[-1]['full_sa_g']:.2f} g", flush=True)
-        write_csv(rows, out / f"fast_vs_full_{tag}.csv")
-    print(f"total {time.perf_counter() - t0:.0f} s; outputs in {out}")
+
+
+def _check_full(args, motions, bearings, actual, out, tag):
+    rows = []
+    for b in bearings:
+        act = actual[b.pressure]
+        order = sorted(range(len(act)), key=lambda i: np.inf if act[i].sa is None
+                       else act[i].sa)[: args.check_full]
+        fulls = critical_sas(b, [motions[i] for i in order], processes=args.processes,
+                             cache=args.cache, search="full")
+        for i, full in zip(order, fulls, strict=True):
+            a = act[i]
+            rows.append({"pressure_MPa": b.pressure / 1e6, "record": a.name,
+                         "fast_sa_g": np.nan if a.sa is None else a.sa / G,
+                         "full_sa_g": np.nan if full.sa is None else full.sa / G,
+                         "fast_rungs": len(a.rungs), "full_rungs": len(full.rungs),
+                         "same": a.sa == full.sa})
+            print(f"{b.pressure / 1e6:g} MPa {a.name}: fast {rows[-1]['fast_sa_g']:.2f} g, "
+                  f"full {rows[-1]['full_sa_g']:.2f} g", flush=True)
+    mpa = "_".join(f"{b.pressure / 1e6:g}" for b in bearings)
+    write_csv(rows, out / f"fast_vs_full_{tag}_{mpa}MPa_{args.check_full}.csv")
 
 
 def _figures(rows, act, by_c, out, tag, mpa, criteria):
