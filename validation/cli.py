@@ -231,7 +231,7 @@ def build_parser() -> argparse.ArgumentParser:
     source.add_argument("--manifest", help="user record set: a TOML or CSV manifest")
     p.add_argument("--quick", action="store_true",
                    help="a short run: the first component of the first 4 records, criteria "
-                   "3 and 4 (about 5 minutes on 2 cores)")
+                   "3 and 4 (about 4 minutes on 2 cores)")
     p.add_argument("--records", type=_positive(int), help="use only the first N components")
     p.add_argument("--pressure", type=_positive(float), nargs="+", default=[60.0, 10.0],
                    help="slider pressures [MPa] (default 60 10)")
