@@ -223,14 +223,14 @@ def simulate(
     -------
     FEMResult
     """
-    from rigid.model import _validate_input
+    from rigid.model import validate_acceleration
 
     from .dfp import build_system
     from .dynamics import HHTParameters, Integrator, StepControl
 
     if not isinstance(bearing, DFPBearing):
         raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    a = _validate_input(acceleration, dt)
+    a = validate_acceleration(acceleration, dt)
     record_end = (a.size - 1) * dt
     duration = record_end if duration is None else float(duration)
     if not (math.isfinite(duration) and duration > 0):

@@ -239,6 +239,25 @@ class _Store:
 # --------------------------------------------------------------------------- ladder
 
 
+def check_ladder(bearing, search, searches, step, coarse, start, stop) -> float:
+    """Check the arguments shared by the actual and the predicted ladder; return ``start``
+    [m/s²] (one ``step`` when None)."""
+    if not isinstance(bearing, DFPBearing):
+        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
+    if search not in searches:
+        raise ValueError(f"search must be one of {', '.join(searches)}, got {search!r}")
+    if not (math.isfinite(step) and step > 0):
+        raise ValueError(f"step must be a positive acceleration [m/s²], got {step!r}")
+    if int(coarse) != coarse or coarse < 1:
+        raise ValueError(f"coarse must be a positive integer, got {coarse!r}")
+    start = step if start is None else float(start)
+    if not (math.isfinite(start) and start > 0):
+        raise ValueError(f"start must be a positive acceleration [m/s²], got {start!r}")
+    if not stop >= start:
+        raise ValueError("stop must not be below start")
+    return start
+
+
 def _as_record(motion, dt):
     if dt is None:
         if not hasattr(motion, "acceleration"):
@@ -337,21 +356,9 @@ def critical_sa(
     -------
     CriticalSA
     """
-    if not isinstance(bearing, DFPBearing):
-        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    if search not in _SEARCHES:
-        raise ValueError(f"search must be 'full' or 'fast', got {search!r}")
-    if not (math.isfinite(step) and step > 0):
-        raise ValueError(f"step must be a positive acceleration [m/s²], got {step!r}")
-    if int(coarse) != coarse or coarse < 1:
-        raise ValueError(f"coarse must be a positive integer, got {coarse!r}")
+    start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     if int(after_failure) != after_failure or after_failure < 0:
         raise ValueError(f"after_failure must be a non-negative integer, got {after_failure!r}")
-    start = step if start is None else float(start)
-    if not (math.isfinite(start) and start > 0):
-        raise ValueError(f"start must be a positive acceleration [m/s²], got {start!r}")
-    if not stop >= start:
-        raise ValueError("stop must not be below start")
     period = bearing.design_period if period is None else float(period)
     acc, dt, name = _as_record(motion, dt)
     if acc.ndim != 1 or acc.size < 2 or not np.all(np.isfinite(acc)):

@@ -271,7 +271,10 @@ def reach_energy(bearing: DFPBearing) -> float:
     return bearing.supported_mass * G * arm * (1 - math.cos(bearing.capacity_tilt))
 
 
-def _validate_input(acceleration, dt) -> np.ndarray:
+def validate_acceleration(acceleration, dt) -> np.ndarray:
+    """A ground acceleration [m/s²] and its sampling interval dt [s] checked (1-D, at least
+    two finite samples, dt > 0) and returned as a contiguous float array; ValueError names
+    what is wrong. Shared by the rigid and the FE model."""
     a = np.asarray(acceleration, dtype=float)
     if a.ndim != 1:
         raise ValueError(f"acceleration must be one-dimensional, got shape {a.shape}")
@@ -345,7 +348,7 @@ def simulate(
     """
     if not isinstance(bearing, DFPBearing):
         raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    a = _validate_input(acceleration, dt)
+    a = validate_acceleration(acceleration, dt)
     if not (math.isfinite(max_step) and max_step > 0):
         raise ValueError(f"max_step must be a positive number of seconds, got {max_step!r}")
     if int(record_every) != record_every or record_every < 1:

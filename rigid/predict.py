@@ -230,19 +230,9 @@ def predict_critical_sa(
     -------
     PredictedSA
     """
-    from .ida import _as_record
+    from .ida import _as_record, check_ladder
 
-    if not isinstance(bearing, DFPBearing):
-        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    if search not in _SEARCHES:
-        raise ValueError(f"search must be 'full' or 'fast', got {search!r}")
-    if not (math.isfinite(step) and step > 0):
-        raise ValueError(f"step must be a positive acceleration [m/s²], got {step!r}")
-    if int(coarse) != coarse or coarse < 1:
-        raise ValueError(f"coarse must be a positive integer, got {coarse!r}")
-    start = step if start is None else float(start)
-    if not (math.isfinite(start) and start > 0 and stop >= start):
-        raise ValueError("start must be a positive acceleration [m/s²] not above stop")
+    start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     period = bearing.design_period if period is None else float(period)
     acc, dt, name = _as_record(motion, dt)
     if pulse is None:
