@@ -1,9 +1,9 @@
 """Result store: every finished simulation is written at once to SQLite, keyed by a hash of
 every input that matters, so an interrupted run resumes and a rerun is instant.
 
-Only the coordinating process writes (workers return results to it). Each result is its own
-transaction in WAL mode, so a killed process loses at most the simulation in flight and never
-leaves a half-written row.
+Each result is its own transaction in WAL mode, so a killed process loses at most the
+simulation in flight and never leaves a half-written row; several processes may write to one
+file (the impact sweeps' workers do; the task runner writes from the coordinating process).
 """
 
 from __future__ import annotations
@@ -71,6 +71,18 @@ class ResultStore:
         """The stored result (a JSON value) or None."""
         row = self._db.execute("SELECT result FROM results WHERE key = ?", (key,)).fetchone()
         return None if row is None else json.loads(row[0])
+
+    def get_many(self, keys) -> dict:
+        """The stored results of those ``keys`` that have one, by key."""
+        keys, found = list(keys), {}
+        for i in range(0, len(keys), 500):  # SQLite caps the parameters of one statement
+            chunk = keys[i : i + 500]
+            rows = self._db.execute(
+                f"SELECT key, result FROM results WHERE key IN ({','.join('?' * len(chunk))})",
+                chunk,
+            ).fetchall()
+            found.update((k, json.loads(v)) for k, v in rows)
+        return found
 
     def __contains__(self, key: str) -> bool:
         row = self._db.execute("SELECT 1 FROM results WHERE key = ?", (key,)).fetchone()

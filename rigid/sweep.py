@@ -13,8 +13,9 @@ spectra of :mod:`rigid.impact` are built from cells. Three things make sweeps pr
   parameters, the pulse kind, period and amplitude (exact binary values), the
   :class:`SweepSettings`, and the source of the model files (``_kernel.py``, ``model.py``,
   ``pulses.py``, ``bearing.py``), so an edited model never reuses stale cells. A sweep that is
-  interrupted and rerun recomputes only the missing cells. SQLite in WAL mode lets the worker
-  processes write concurrently; the file is safe to delete at any time.
+  interrupted and rerun recomputes only the missing cells. The file is a
+  :class:`rigid.store.ResultStore` (SQLite in WAL mode), which lets the worker processes write
+  concurrently; the file is safe to delete at any time.
 * **Processes.** Cells run in a :class:`concurrent.futures.ProcessPoolExecutor` with the
   ``spawn`` context (Numba and ``fork`` do not mix well); each worker loads the compiled
   kernel from Numba's on-disk cache once. As with any spawn pool, a script that runs a
@@ -32,7 +33,6 @@ import hashlib
 import json
 import math
 import os
-import sqlite3
 import sys
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -43,6 +43,7 @@ import numpy as np
 from .bearing import DFPBearing
 from .model import DEFAULT_MAX_STEP, RIM_NAMES, NumericalInstabilityError, simulate
 from .pulses import KINDS, ricker
+from .store import ResultStore
 
 #: Bump when the meaning of a cached cell changes without a change of the model's source.
 CACHE_VERSION = 1
@@ -137,15 +138,11 @@ class Cell:
     impact_velocities: tuple = ()
     impact_rims: tuple = ()
 
-    def to_json(self) -> str:
-        return json.dumps(dataclasses.asdict(self), allow_nan=True)
-
     @classmethod
-    def from_json(cls, text: str) -> Cell:
-        d = json.loads(text)
-        for name in ("impact_times", "impact_velocities", "impact_rims"):
-            d[name] = tuple(d[name])
-        return cls(**d)
+    def from_dict(cls, d: dict) -> Cell:
+        """Inverse of ``dataclasses.asdict`` (as stored in the cache)."""
+        tuples = ("impact_times", "impact_velocities", "impact_rims")
+        return cls(**{k: tuple(v) if k in tuples else v for k, v in d.items()})
 
 
 def pulse_record(kind: str, period: float, amplitude: float, settings: SweepSettings):
@@ -250,56 +247,16 @@ def resolve_cache(cache) -> Path | None:
     return Path(cache)
 
 
-class CellCache:
-    """SQLite store of cells: one row (key, JSON) per cell, WAL mode for concurrent writers."""
-
-    def __init__(self, path):
-        self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._db = sqlite3.connect(self.path, timeout=60.0)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        # durable against a crash of the program (not of the machine): enough for a cache
-        self._db.execute("PRAGMA synchronous=NORMAL")
-        self._db.execute("CREATE TABLE IF NOT EXISTS cells (key TEXT PRIMARY KEY, value TEXT)")
-        self._db.commit()
-
-    def get(self, key: str) -> Cell | None:
-        row = self._db.execute("SELECT value FROM cells WHERE key = ?", (key,)).fetchone()
-        return Cell.from_json(row[0]) if row else None
-
-    def get_many(self, keys: Sequence[str]) -> dict[str, Cell]:
-        out = {}
-        keys = list(keys)
-        for i in range(0, len(keys), 500):
-            chunk = keys[i : i + 500]
-            marks = ",".join("?" * len(chunk))
-            rows = self._db.execute(
-                f"SELECT key, value FROM cells WHERE key IN ({marks})", chunk
-            ).fetchall()
-            out.update((k, Cell.from_json(v)) for k, v in rows)
-        return out
-
-    def put(self, key: str, cell: Cell) -> None:
-        self._db.execute(
-            "INSERT OR REPLACE INTO cells (key, value) VALUES (?, ?)", (key, cell.to_json())
-        )
-        self._db.commit()
-
-    def __len__(self) -> int:
-        return int(self._db.execute("SELECT COUNT(*) FROM cells").fetchone()[0])
-
-    def close(self) -> None:
-        self._db.close()
+_OPEN_CACHES: dict = {}
 
 
-_OPEN_CACHES: dict[Path, CellCache] = {}
-
-
-def _cache(path: Path | None) -> CellCache | None:
+def _cache(path: Path | None):
+    """The cell store at ``path`` (a :class:`rigid.store.ResultStore`), opened once per
+    process."""
     if path is None:
         return None
     if path not in _OPEN_CACHES:
-        _OPEN_CACHES[path] = CellCache(path)
+        _OPEN_CACHES[path] = ResultStore(path)
     return _OPEN_CACHES[path]
 
 
@@ -314,14 +271,14 @@ class Evaluator:
     def __call__(self, kind: str, period: float, amplitude: float) -> Cell:
         key = cell_key(self.bearing, kind, period, amplitude, self.settings)
         if self.cache is not None:
-            cell = self.cache.get(key)
-            if cell is not None:
+            stored = self.cache.get(key)
+            if stored is not None:
                 self.reused += 1
-                return cell
+                return Cell.from_dict(stored)
         cell = compute_cell(self.bearing, kind, period, amplitude, self.settings)
         self.computed += 1
         if self.cache is not None:
-            self.cache.put(key, cell)
+            self.cache.put(key, "impact-cell", dataclasses.asdict(cell))
         return cell
 
 
@@ -438,7 +395,7 @@ def run_cells(
         found = store.get_many(keys)
         for i, key in enumerate(keys):
             if key in found:
-                out[i] = found[key]
+                out[i] = Cell.from_dict(found[key])
         reused = len(found)
     missing = [i for i, c in enumerate(out) if c is None]
     # longest first (cost ∝ record length ∝ Tp), in chunks small enough to balance two workers

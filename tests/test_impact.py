@@ -201,15 +201,12 @@ def test_cache_resumes_and_keys_on_every_input(tmp_path):
 
 
 def _cached_cells(path):
-    import sqlite3
+    from rigid.store import ResultStore
 
     if not path.exists():
         return 0
-    try:
-        with sqlite3.connect(path, timeout=5) as db:
-            return db.execute("SELECT COUNT(*) FROM cells").fetchone()[0]
-    except sqlite3.OperationalError:  # table not created yet
-        return 0
+    with ResultStore(path) as store:
+        return store.count("impact-cell")
 
 
 def test_ctrl_c_keeps_finished_cells_and_the_rerun_computes_only_the_rest(tmp_path):
