@@ -22,9 +22,10 @@ for up to ``free`` seconds after the record (ground at rest), because a bearing 
 can hit a rim or escape then, and ``simulate(stop_when_quiet=True)`` ends it as soon as no rim
 can be reached, which keeps impacts and failure exact and is where the time is saved.
 
-Cache. Finished rungs are stored as JSON, one file per ladder, under ``cache`` (a directory;
-``True`` means ``$DFP_FAILURE_CACHE`` or else ``~/.cache/dfp-failure/ida``). The file name is a
-SHA-256 of everything the outcome depends on: the bearing's fields, the record's samples and
+Cache. Finished rungs are stored one row each in ``ladders.sqlite`` (a
+:class:`rigid.store.ResultStore`) under ``cache`` (a directory; ``True`` means
+``$DFP_FAILURE_CACHE`` or else ``~/.cache/dfp-failure/ida``), keyed by the rung and a SHA-256
+of everything the ladder depends on: the bearing's fields, the record's samples and
 dt, the ladder's start and step, the scaling period and damping, the simulation settings and
 the source of ``rigid/_kernel.py`` and ``rigid/model.py`` (so a model change invalidates it).
 Each rung is written as soon as it is done, so an interrupted run resumes where it stopped.
@@ -37,7 +38,6 @@ import hashlib
 import json
 import math
 import os
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -208,32 +208,21 @@ def _ladder_key(bearing, acc, dt, start, step, period, damping, sim) -> str:
 
 
 class _Store:
-    """Rungs of one ladder on disk (JSON), rewritten atomically after each new rung."""
+    """Rungs of one ladder in ``directory/ladders.sqlite`` (a :class:`rigid.store.ResultStore`),
+    one row per rung, written as soon as the rung is done."""
 
     def __init__(self, directory, key: str, name: str):
-        self.path = None if directory is None else Path(directory) / f"{key}.json"
-        self.rungs: dict[int, dict] = {}
-        self.name = name
-        if self.path is not None and self.path.exists():
-            try:
-                data = json.loads(self.path.read_text())
-                self.rungs = {int(k): v for k, v in data["rungs"].items()}
-            except (OSError, ValueError, KeyError):
-                self.rungs = {}  # a damaged file is recomputed, never trusted
+        from .store import ResultStore
+
+        self.key = key
+        self.db = None if directory is None else ResultStore(Path(directory) / "ladders.sqlite")
 
     def get(self, j: int):
-        return self.rungs.get(j)
+        return None if self.db is None else self.db.get(f"{self.key}:{j}")
 
     def put(self, j: int, value: dict) -> None:
-        self.rungs[j] = value
-        if self.path is None:
-            return
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        data = {"name": self.name, "rungs": {str(k): v for k, v in sorted(self.rungs.items())}}
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, suffix=".tmp")
-        with os.fdopen(fd, "w") as fh:
-            json.dump(data, fh)
-        os.replace(tmp, self.path)
+        if self.db is not None:
+            self.db.put(f"{self.key}:{j}", "ladder-rung", value)
 
 
 # --------------------------------------------------------------------------- ladder
