@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from rigid import DFPBearing, G, ricker_record
+from rigid.ida import _run_rung
 from rigid.parallel import Task, run_tasks
 from rigid.store import ResultStore, task_key
-from validation.tasks import bearing_dict, rigid_run
 
 
 def test_task_key_is_canonical_and_sensitive():
@@ -78,11 +78,12 @@ def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
 
 
 def _rigid_tasks(n):
-    bearing = bearing_dict(DFPBearing(pressure=10e6))
+    """Rungs of a scaling ladder, run by the critical-SA search's own rung function."""
+    bearing = DFPBearing(pressure=10e6)
     _, a = ricker_record(0.1 * G, 3.0, dt=0.01)  # fails at 0.8 g (tests/test_model.py)
-    return [Task(task_key("rigid", bearing=bearing, acceleration=a, dt=0.01, scale=s),
-                 "rigid", rigid_run, {"bearing": bearing, "acceleration": a, "dt": 0.01,
-                                      "scale": s})
+    sim = {"on_instability": "refine", "free": 10.0}
+    return [Task(task_key("rigid", bearing=bearing, acc=a, dt=0.01, scale=s, sim=sim), "rigid",
+                 _run_rung, {"bearing": bearing, "acc": a, "dt": 0.01, "scale": s, "sim": sim})
             for s in np.linspace(1.0, 8.0, n)]
 
 

@@ -8,6 +8,8 @@ from pathlib import Path
 
 KINDS = ("symmetric", "antisymmetric")
 SETS = ("nearfield_pulse", "nearfield_no_pulse", "farfield", "nearfield")
+#: Records of the quick run: the first components of the first FEMA P695 records of the set.
+QUICK_RECORDS = 4
 
 
 class CommandError(Exception):
@@ -130,8 +132,6 @@ def _motions(args):
         motions = fema_p695(args.set)
         label = f"FEMA P695 {args.set}"
     if args.quick and args.records is None:
-        from validation.pipeline import QUICK_RECORDS
-
         motions = motions[: 2 * QUICK_RECORDS : 2]  # first component of the first records
     elif args.records is not None:
         motions = motions[: args.records]
@@ -230,8 +230,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"FEMA P695 record set: {', '.join(SETS)} (default nearfield_pulse)")
     source.add_argument("--manifest", help="user record set: a TOML or CSV manifest")
     p.add_argument("--quick", action="store_true",
-                   help="a short run: the first component of the first 4 records, criteria "
-                   "3 and 4 (about 4 minutes on 2 cores)")
+                   help=f"a short run: the first component of the first {QUICK_RECORDS} "
+                   "records, criteria 3 and 4 (about 4 minutes on 2 cores)")
     p.add_argument("--records", type=_positive(int), help="use only the first N components")
     p.add_argument("--pressure", type=_positive(float), nargs="+", default=[60.0, 10.0],
                    help="slider pressures [MPa] (default 60 10)")

@@ -5,7 +5,6 @@ results are stored as they finish, then collected into tables for the report."""
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -14,9 +13,6 @@ import numpy as np
 from rigid import DFPBearing, G
 from rigid.parallel import Task, run_tasks
 from rigid.store import ResultStore, task_key
-
-#: Records of the quick run: the first components of four FEMA P695 near-field pulse records.
-QUICK_RECORDS = 4
 
 
 @dataclass(frozen=True)
@@ -120,8 +116,3 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
             r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
     store.close()
     return out_by_pressure
-
-
-def finite(values) -> np.ndarray:
-    """The finite entries of a sequence of floats (None and NaN dropped)."""
-    return np.array([v for v in values if v is not None and math.isfinite(v)], dtype=float)
