@@ -76,22 +76,28 @@ def test_bad_number_from_argparse(tmp_path):
 
 
 def test_validation_run_on_a_manifest(tmp_path):
-    """A Ricker pulse record: the report and CSVs are written, and the prediction of
-    criterion 4 lands within one 0.01 g rung of the actual critical SA (the method is exact
-    for a record that is its own pulse; tests/test_predict.py checks this in depth)."""
+    """A Ricker pulse record: the report, CSVs and report.nc are written, and the prediction
+    of criterion 4 lands within one 0.01 g rung of the actual critical SA (the method is exact
+    for a record that is its own pulse; tests/test_predict.py checks this in depth). No FE
+    runs here (minutes each; tests/test_fem_search.py tests their search)."""
+    from validation.netcdf import read_table
+
     out = tmp_path / "run"
     result = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",
                  "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
-                 "--out", str(out))
+                 "--no-fem", "--out", str(out))
     assert result.returncode == 0, result.stderr
     assert (out / "report.html").stat().st_size > 10_000  # with embedded figures
     with open(out / "comparison_10MPa.csv") as fh:
         (row,) = list(csv.DictReader(fh))
     actual, predicted = float(row["actual_sa_g"]), float(row["predicted_sa_g_4"])
     assert actual > 0 and abs(predicted - actual) <= 0.01 + 1e-9
+    (nc,) = read_table(out / "report.nc", "comparison_10MPa")  # CSV has 6 digits
+    assert nc["actual_sa_g"] == pytest.approx(actual, rel=1e-5)
+    assert nc["predicted_sa_g_4"] == pytest.approx(predicted, rel=1e-5)
     again = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",
                 "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
-                "--out", str(out))
+                "--no-fem", "--out", str(out))
     assert again.returncode == 0 and again.stdout.splitlines()[1:] == result.stdout.splitlines()[1:]
 
 

