@@ -43,10 +43,20 @@ The curvature term N ∇²δ (exact for the arcs, zero for the flat sides) carri
 geometric stiffness; the analogous terms of the friction force (T times the change of τ) are
 of relative size μ δ/R and left out, which only slows Newton down negligibly.
 
-Limitation: only plate *nodes* are slaves. The slider's four vertices are not checked
-against the plates' facets, so a vertex pressed into a rim face (or into the re-entrant corner
-at a rim root) can sink between two rim nodes by up to about half a rim element; refine
-``rim_size`` where that matters. A vertex-to-segment pass would remove it.
+The slider's four vertices can be slaves too, against the plate facets listed in
+``ContactNodes.segments`` (the rims' inner faces and tops; ``fem.simulate(...,
+vertex_contact=True)``, off by default, see :mod:`fem.model` for why): without them a vertex of
+a tilted slider pressed into a rim face finds no rim node in its way and sinks between two of
+them by up to about tan θ times the rim node spacing. Vertex-to-segment contact (Wriggers 2006,
+§9.1.1, frictionless) uses the gap δ = −(x_v − x_a)·n of the vertex x_v = c + R(Θ)v below the
+deformed facet (a, b) of outward normal n, with the facet's reference length ℓ₀ as tributary
+length, N = ε_N ℓ₀ δ on the seven dofs (x_a, z_a, x_b, z_b, X, Z, Θ) and the full second
+variation of δ in the tangent. A vertex contacts the facet that it projects onto (0 ≤ ξ ≤ 1) and
+penetrates least, to at most ``vertex_depth``. Friction is not modelled at these corner contacts
+(rim friction is 0.05). They are not used on the dish, whose chords lie above the arc by ℓ²/(8R)
+(5 µm on the default mesh): a vertex sliding on the dish would be pushed up and down by that
+sag; there a tilted slider's corner can still sink ≈ h_dish·tan θ (1 mm at 10 mm facets and θ =
+0.1) before the next dish node meets its face.
 
 Units: SI; forces are per unit out-of-plane depth ([N/m]), moments [N·m/m].
 """
@@ -184,9 +194,14 @@ class ContactNodes:
     length: np.ndarray
     friction: np.ndarray
     plate: np.ndarray
+    segments: np.ndarray | None = None
+    segment_sign: np.ndarray | None = None
+    segment_length: np.ndarray | None = None
 
     @classmethod
-    def from_mesh(cls, mesh, boundaries: dict[str, float], plate_of=None) -> ContactNodes:
+    def from_mesh(
+        cls, mesh, boundaries: dict[str, float], plate_of=None, vertex_boundaries=()
+    ) -> ContactNodes:
         """Collect the nodes of named facet sets.
 
         Parameters
@@ -197,6 +212,11 @@ class ContactNodes:
             Boundary name → friction coefficient μ [-] on it.
         plate_of : callable, optional
             Boundary name → 0/1 plate label; default: 1 if the name starts with ``"top"``.
+        vertex_boundaries : sequence of str
+            Boundaries (among ``boundaries``) whose facets the slider's vertices are checked
+            against; they become ``segments`` (pairs of indices into ``nodes``),
+            ``segment_sign`` (outward normal n = sign·(Δz, −Δx)/ℓ for Δ = x_b − x_a) and
+            ``segment_length`` ℓ₀ [m].
         """
         plate_of = plate_of or (lambda name: int(name.startswith("top")))
         n = mesh.p.shape[1]
@@ -212,7 +232,21 @@ class ContactNodes:
                 np.add.at(mu_len, end, mu * half)
             plate[np.unique(facets)] = plate_of(name)
         nodes = np.flatnonzero(length > 0)
-        return cls(nodes, length[nodes], mu_len[nodes] / length[nodes], plate[nodes])
+        segs = signs = seg_len = None
+        if vertex_boundaries:
+            index = np.full(n, -1)
+            index[nodes] = np.arange(nodes.size)
+            fac = np.concatenate([mesh.boundaries[name] for name in vertex_boundaries])
+            ends = mesh.facets[:, fac]
+            delta = mesh.p[:, ends[1]] - mesh.p[:, ends[0]]
+            mid = 0.5 * (mesh.p[:, ends[1]] + mesh.p[:, ends[0]])
+            centroid = mesh.p[:, mesh.t[:, mesh.f2t[0, fac]]].mean(axis=1)
+            qd = np.array([delta[1], -delta[0]])
+            signs = np.sign(((mid - centroid) * qd).sum(axis=0))  # away from the element
+            segs = index[ends].T
+            seg_len = np.hypot(delta[0], delta[1])
+        return cls(nodes, length[nodes], mu_len[nodes] / length[nodes], plate[nodes], segs,
+                   signs, seg_len)
 
     def __len__(self) -> int:
         return self.nodes.size
@@ -439,3 +473,169 @@ def assemble(stiffness: np.ndarray, node_dofs: np.ndarray, slider_dofs, size: in
     rows = np.broadcast_to(dofs[:, None, :], (5, 5, n)).ravel()
     cols = np.broadcast_to(dofs[None, :, :], (5, 5, n)).ravel()
     return sp.csr_matrix((stiffness.ravel(), (rows, cols)), shape=(size, size))
+
+
+class VertexContact(NamedTuple):
+    """Contact of the slider's vertices with plate facets (:func:`vertex_contact`).
+
+    Attributes
+    ----------
+    active : ndarray of bool, shape (4,)
+    segment : ndarray of int, shape (4,)
+        Facet index into ``ContactNodes.segments`` (−1 if open).
+    normal : ndarray, shape (4,) [N/m]
+        N = ε_N ℓ₀ δ.
+    gap : ndarray, shape (4,) [m]
+        Penetration δ (0 if open).
+    force : ndarray, shape (7, 4)
+        Generalised force −N∇δ on (x_a, z_a, x_b, z_b, X, Z, Θ).
+    stiffness : ndarray, shape (7, 7, 4)
+        K = ε_N ℓ₀ ∇δ∇δᵀ + N∇²δ.
+    ends : ndarray of int, shape (2, 4)
+        Slave-node indices of the facet ends (0 if open).
+    """
+
+    active: np.ndarray
+    segment: np.ndarray
+    normal: np.ndarray
+    gap: np.ndarray
+    force: np.ndarray
+    stiffness: np.ndarray
+    ends: np.ndarray
+
+
+def vertex_contact(
+    shape: SliderShape, nodes: ContactNodes, x: np.ndarray, pose, penalty: float,
+    max_depth: float,
+) -> VertexContact:
+    """Frictionless penalty contact of the slider's four vertices with plate facets.
+
+    Parameters
+    ----------
+    shape : SliderShape
+    nodes : ContactNodes
+        With ``segments`` (see :meth:`ContactNodes.from_mesh`).
+    x : ndarray, shape (2, n) [m]
+        Deformed slave-node positions.
+    pose : sequence of 3 floats [m, m, rad]
+    penalty : float [N/m³]
+        ε_N.
+    max_depth : float [m]
+        Largest penetration attributed to a facet (deeper points belong to no facet).
+
+    Returns
+    -------
+    VertexContact
+    """
+    th = float(pose[2])
+    Rm = rotation(th)
+    v = shape.vertices
+    u = Rm @ v  # R v
+    w = np.array([-u[1], u[0]])  # ∂x_v/∂Θ = R' v
+    xv = np.asarray(pose[:2], dtype=float)[:, None] + u  # (2, 4)
+    out_active = np.zeros(4, dtype=bool)
+    seg_of = np.full(4, -1)
+    gap = np.zeros(4)
+    nv = np.zeros((2, 4))
+    xi_v = np.zeros(4)
+    if nodes.segments is None or nodes.segments.size == 0:
+        z = np.zeros(4)
+        return VertexContact(out_active, seg_of, z, gap, np.zeros((7, 4)),
+                             np.zeros((7, 7, 4)), np.zeros((2, 4), dtype=int))
+    a = x[:, nodes.segments[:, 0]]
+    b = x[:, nodes.segments[:, 1]]
+    delta = b - a
+    ell = np.hypot(delta[0], delta[1])
+    t = delta / ell
+    n = nodes.segment_sign * np.array([t[1], -t[0]])  # outward normal of the plate
+    r = xv[:, :, None] - a[:, None, :]  # (2, 4, m)
+    xi = (r * t[:, None, :]).sum(axis=0) / ell  # (4, m)
+    depth = -(r * n[:, None, :]).sum(axis=0)
+    ok = (xi >= 0.0) & (xi <= 1.0) & (depth > 0.0) & (depth <= max_depth)
+    cand = np.where(ok, depth, np.inf)
+    best = np.argmin(cand, axis=1)
+    for k in range(4):
+        if np.isfinite(cand[k, best[k]]):
+            out_active[k] = True
+            seg_of[k] = best[k]
+            gap[k] = depth[k, best[k]]
+            nv[:, k] = n[:, best[k]]
+            xi_v[k] = xi[k, best[k]]
+    ends = np.zeros((2, 4), dtype=int)
+    force = np.zeros((7, 4))
+    K = np.zeros((7, 7, 4))
+    L0 = np.zeros(4)
+    for k in np.flatnonzero(out_active):
+        j = seg_of[k]
+        ends[:, k] = nodes.segments[j]
+        L0[k] = nodes.segment_length[j]
+        force[:, k], K[:, :, k] = _vertex_terms(
+            r[:, k, j], delta[:, j], nodes.segment_sign[j], w[:, k], u[:, k], penalty * L0[k]
+        )
+    N = penalty * L0 * gap
+    return VertexContact(out_active, seg_of, N, gap, force, K, ends)
+
+
+_Q = np.array([[0.0, 1.0], [-1.0, 0.0]])  # Q Δ = (Δz, −Δx)
+
+
+def _vertex_terms(r, delta, sign, w, u, k_n):
+    """Force −N∇δ and tangent k_n∇δ∇δᵀ + N∇²δ for δ = −sign·(rᵀQΔ)/ℓ, r = x_v − x_a,
+    Δ = x_b − x_a, on d = (x_a, x_b, c, Θ); w = ∂x_v/∂Θ, u = R v (∂²x_v/∂Θ² = −u)."""
+    ell = math.hypot(delta[0], delta[1])
+    t = delta / ell
+    phi = r @ _Q @ delta
+    delta_gap = -sign * phi / ell
+    g_r = -sign * (_Q @ delta) / ell  # ∂δ/∂r = −n
+    g_d = -sign * ((_Q.T @ r) / ell - phi * t / ell**2)  # ∂δ/∂Δ
+    h_rd = -sign * (_Q - np.outer(_Q @ delta, t) / ell) / ell  # ∂²δ/∂r∂Δ
+    qr = _Q.T @ r
+    h_dd = sign * (
+        (np.outer(qr, t) + np.outer(t, qr)) / ell**2
+        + phi * (np.eye(2) - 3.0 * np.outer(t, t)) / ell**3
+    )  # ∂²δ/∂Δ²
+    I2 = np.eye(2)
+    A_r = np.zeros((2, 7))
+    A_r[:, 0:2] = -I2
+    A_r[:, 4:6] = I2
+    A_r[:, 6] = w
+    A_d = np.zeros((2, 7))
+    A_d[:, 0:2] = -I2
+    A_d[:, 2:4] = I2
+    grad = A_r.T @ g_r + A_d.T @ g_d
+    H = A_r.T @ h_rd @ A_d
+    H = H + H.T + A_d.T @ h_dd @ A_d
+    H[6, 6] += g_r @ (-u)  # ∂δ/∂r · ∂²r/∂Θ²
+    N = k_n * delta_gap
+    return -N * grad, k_n * np.outer(grad, grad) + N * H
+
+
+def add_vertices(result: ContactResult, vc: VertexContact) -> ContactResult:
+    """``result`` with the vertex contacts folded in: their forces on the facet-end nodes and
+    the slider, each normal force shared by the two end nodes in proportion to their forces
+    (for force resultants per rim), the end nodes marked active (so the rim counts as in
+    contact) and the springs' energy added. The 7 × 7 tangents stay in ``vc``."""
+    if not vc.active.any():
+        return result
+    node_force = result.node_force.copy()
+    normal = result.normal.copy()
+    active = result.active.copy()
+    slider = result.slider_force.copy()
+    for k in np.flatnonzero(vc.active):
+        a, b = vc.ends[:, k]
+        f = vc.force[:, k]
+        node_force[:, a] += f[0:2]
+        node_force[:, b] += f[2:4]
+        slider += f[4:7]
+        # nodal share of the normal force: |f| on each end along the facet normal
+        fa, fb = math.hypot(*f[0:2]), math.hypot(*f[2:4])
+        total = fa + fb
+        if total > 0:
+            normal[a] += vc.normal[k] * fa / total
+            normal[b] += vc.normal[k] * fb / total
+        active[a] = active[b] = True
+    energy = result.normal_energy + float(0.5 * (vc.normal * vc.gap).sum())
+    return result._replace(
+        node_force=node_force, normal=normal, active=active, slider_force=slider,
+        normal_energy=energy,
+    )

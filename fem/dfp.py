@@ -82,6 +82,7 @@ def build_system(
     mesh_options: dict | None = None,
     penalty_factor: float = 10.0,
     tangential_ratio: float = 0.1,
+    vertex_contact: bool = False,
     cache_dir=None,
 ) -> DFPSystem:
     """Assemble the plane-strain DFP model of a bearing.
@@ -96,6 +97,9 @@ def build_system(
         ε_N = factor · E / h_c, h_c the mean dish facet length (fem.md §7.5: 10–100).
     tangential_ratio : float [-]
         ε_T / ε_N (fem.md §7.5: 0.1–1).
+    vertex_contact : bool
+        Also make the slider's four vertices contact points against the rims' inner faces and
+        tops (:func:`fem.contact.vertex_contact`). Off by default: see :mod:`fem.model`.
     cache_dir : path-like, optional
         Mesh cache.
 
@@ -120,7 +124,10 @@ def build_system(
         for name in CONTACT_BOUNDARIES:
             mu = bearing.friction if name == "dish" else bearing.rim_friction
             boundaries[f"{plate}_{name}"] = mu
-    nodes = C.ContactNodes.from_mesh(m, boundaries)
+    rims = [f"{plate}_{name}" for plate in ("bottom", "top") for name in ("rim_inner", "rim_top")]
+    nodes = C.ContactNodes.from_mesh(
+        m, boundaries, vertex_boundaries=rims if vertex_contact else ()
+    )
     dish = m.facets[:, m.boundaries["bottom_dish"]]
     h_c = float(np.mean(np.linalg.norm(m.p[:, dish[1]] - m.p[:, dish[0]], axis=0)))
     eps_n = penalty_factor * bearing.youngs_modulus / h_c
@@ -129,6 +136,7 @@ def build_system(
         fe, Material.from_bearing(bearing), shape, nodes,
         pose=[0.0, bearing.slider_height / 2, 0.0],
         penalty=eps_n, tangential_penalty=tangential_ratio * eps_n,
+        vertex_depth=bearing.rim_thickness / 2,
     )
 
     nd = fe.basis.nodal_dofs

@@ -45,9 +45,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.sparse import diags
-from scipy.sparse.linalg import spsolve
 
+from .linear import TangentSolver
 from .system import State
 
 
@@ -165,6 +164,7 @@ class Integrator:
         self.newton_iterations = 0
         self.rejected = 0
         self.steps = 0
+        self.solver = TangentSolver(self.system, self.red, self.M)
 
     def external(self, t: float) -> np.ndarray:
         """f_ext(t) = g − M r a_g(t), reduced [N/m]."""
@@ -210,8 +210,10 @@ class Integrator:
         x = d + h * v + 0.5 * h * h * acc  # predictor: a_{n+1} = a_n
         c0 = 1.0 / (be * h * h)
         tol = self.control.rtol * self.scale
+        ev = None
         for it in range(self.control.max_iter + 1):
-            ev = self.system.evaluate(self.red.expand(x), state)
+            if ev is None:
+                ev = self.system.evaluate(self.red.expand(x), state)
             f_int = self.red.reduce(ev.internal_force)
             a_new = c0 * (x - base)
             res = rhs_const - self.M * a_new - (1 + al) * f_int
@@ -227,15 +229,15 @@ class Integrator:
                 )
             if it == self.control.max_iter:
                 break
-            K = self.red.reduce_matrix(ev.stiffness) * (1 + al) + diags(c0 * self.M)
-            dx = spsolve(K.tocsc(), res)
-            x = self._line_search(x, dx, state, rhs_const, base, c0, norm)
+            dx = self.solver.solve(ev, c0, 1 + al, res)
+            x, ev = self._line_search(x, dx, state, rhs_const, base, c0, norm)
         self.newton_iterations += self.control.max_iter
         return None
 
     def _line_search(self, x, dx, state, rhs_const, base, c0, norm, halvings=4):
         """Backtracking: halve the Newton correction while it raises the residual norm (guards
-        semi-smooth Newton against active-set ping-pong, fem.md §4); the last trial is kept."""
+        semi-smooth Newton against active-set ping-pong, fem.md §4); the last trial is kept.
+        Returns the new iterate and its evaluation (None if it was not evaluated)."""
         al = self.hht.alpha
         s = 1.0
         for _ in range(halvings):
@@ -246,9 +248,9 @@ class Integrator:
             )
             r = float(np.linalg.norm(res))
             if math.isfinite(r) and r < norm:
-                return trial
+                return trial, ev
             s *= 0.5
-        return x + s * dx
+        return x + s * dx, None
 
     def run(self, t_end: float, observer=None, t_start: float = 0.0):
         """Integrate from the gravity equilibrium at rest to ``t_end``.

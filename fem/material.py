@@ -239,38 +239,49 @@ def return_map(
     eps_e = strain - eps_p_n
     volumetric = eps_e[:3].sum(axis=0)
     s_trial = 2.0 * G * deviator(eps_e)
-    norm_trial = np.sqrt(np.einsum("i...,i...->...", s_trial, s_trial))
+    norm_trial = np.sqrt((s_trial * s_trial).sum(axis=0))
     q_trial = SQRT_3_2 * norm_trial
     f_trial = q_trial - material.flow_stress(p_n)
     plastic = f_trial > 0.0
+    s_m = s_trial[:, plastic]  # deviatoric trial stress of the plastic points (a copy)
+    stress = s_trial
+    stress[:3] += K * volumetric  # the plastic points are overwritten below
+    extra = (1,) * (strain.ndim - 1)
+    elastic = material.elastic_tangent().reshape(4, 4, *extra)
+    new_p = p_n.copy()
+    new_eps_p = eps_p_n.copy()
+    if not plastic.any():  # every point elastic: D = C everywhere (a read-only view)
+        tangent = np.broadcast_to(elastic, (4, 4, *strain.shape[1:]))
+        return ReturnMapResult(stress, tangent, MaterialState(new_eps_p, new_p), plastic)
 
-    # Plastic corrector: the consistency condition q_tr − 3GΔp = σ_y(p_n + Δp) is linear on
-    # each branch of the capped law (Box 3.2, step 2; de Souza Neto et al. 2008, Box 7.3).
-    # Hardening branch first; if its root passes the kink p_u, the root lies on the flat branch.
-    dp_hard = np.where(plastic, f_trial, 0.0) / (3.0 * G + H)
-    on_flat = plastic & (p_n + dp_hard > p_u)
-    dp_flat = np.where(on_flat, q_trial - f_u, 0.0) / (3.0 * G)
-    dp = np.where(on_flat, dp_flat, dp_hard)
+    # Plastic corrector at the plastic points only (index m). The consistency condition
+    # q_tr − 3GΔp = σ_y(p_n + Δp) is linear on each branch of the capped law (Box 3.2, step 2;
+    # de Souza Neto et al. 2008, Box 7.3). Hardening branch first; if its root passes the kink
+    # p_u, the root lies on the flat branch.
+    q_m = q_trial[plastic]
+    p_m = p_n[plastic]
+    dp = f_trial[plastic] / (3.0 * G + H)
+    on_flat = p_m + dp > p_u
+    dp = np.where(on_flat, (q_m - f_u) / (3.0 * G), dp)
     h_alg = np.where(on_flat, 0.0, H)
-
-    safe_norm = np.where(plastic, norm_trial, 1.0)
-    n_hat = s_trial / safe_norm  # unit flow direction N̂ = s_tr/‖s_tr‖
+    n_hat = s_m / norm_trial[plastic]  # unit flow direction N̂ = s_tr/‖s_tr‖
     # Δε^p = Δp √(3/2) N̂ ; s = s_tr − 2G Δε^p (Box 3.2, step 3).
     d_eps_p = SQRT_3_2 * dp * n_hat
-    stress = s_trial - 2.0 * G * d_eps_p
-    stress[:3] += K * volumetric
+    stress[:, plastic] = s_m - 2.0 * G * d_eps_p
+    stress[:3, plastic] += K * volumetric[plastic]
+    new_eps_p[:, plastic] += d_eps_p
+    new_p[plastic] = p_m + dp
 
     # Consistent tangent (Simo & Taylor 1985; de Souza Neto et al. 2008, Box 7.4):
     # D = K 1⊗1 + 2G(1 − 3GΔp/q_tr) P_dev + 6G²(Δp/q_tr − 1/(3G + H_alg)) N̂⊗N̂.
-    safe_q = np.where(plastic, q_trial, 1.0)
-    ratio = np.where(plastic, dp / safe_q, 0.0)
-    beta = np.where(plastic, 6.0 * G * G * (ratio - 1.0 / (3.0 * G + h_alg)), 0.0)
-    extra = (1,) * (strain.ndim - 1)
-    vol = (K * np.outer(IDENTITY, IDENTITY)).reshape(4, 4, *extra)
-    dev = (2.0 * G * DEVIATORIC_PROJECTOR).reshape(4, 4, *extra)
-    tangent = vol + dev * (1.0 - 3.0 * G * ratio) + beta * np.einsum(
-        "i...,j...->ij...", n_hat, n_hat
+    ratio = dp / q_m
+    beta = 6.0 * G * G * (ratio - 1.0 / (3.0 * G + h_alg))
+    tangent = np.array(np.broadcast_to(elastic, (4, 4, *strain.shape[1:])))
+    dev = 2.0 * G * DEVIATORIC_PROJECTOR
+    tangent[:, :, plastic] = (
+        (K * np.outer(IDENTITY, IDENTITY))[:, :, None]
+        + dev[:, :, None] * (1.0 - 3.0 * G * ratio)
+        + beta * n_hat[:, None, :] * n_hat[None, :, :]
     )
-
-    new_state = MaterialState(eps_p_n + d_eps_p, p_n + dp)
+    new_state = MaterialState(new_eps_p, new_p)
     return ReturnMapResult(stress, tangent, new_state, plastic)

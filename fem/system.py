@@ -21,17 +21,44 @@ from scipy.sparse.linalg import spsolve
 
 from fem import contact as C
 from fem.assembly import PlaneStrainQ1
-from fem.material import Material, MaterialState, ReturnMapResult, return_map
+from fem.material import Material, MaterialState, return_map
 
 
-class Evaluation(NamedTuple):
-    """Internal force and tangent at one iterate (full dofs, per unit depth)."""
+class Evaluation:
+    """Internal force at one iterate, and the tangent on demand (full dofs, per unit depth).
 
-    internal_force: np.ndarray
-    stiffness: sp.csr_matrix
-    material: ReturnMapResult
-    contact: C.ContactResult
-    material_force: np.ndarray
+    Attributes
+    ----------
+    internal_force : ndarray, shape (size,) [N/m]
+        f_int = f_mat − F_c.
+    material : fem.material.ReturnMapResult
+    contact : fem.contact.ContactResult
+        Node contacts, with the slider-vertex contacts' forces folded in.
+    material_force : ndarray, shape (size,) [N/m]
+        f_mat alone.
+    vertex : fem.contact.VertexContact or None
+        The slider-vertex contacts (their 7 × 7 tangents).
+    stiffness : scipy.sparse.csr_matrix, shape (size, size) [N/m²]
+        K = K_mat + K_c, assembled at first access (a line search needs only forces).
+    """
+
+    __slots__ = ("_stiffness", "_system", "contact", "internal_force", "material",
+                 "material_force", "vertex")
+
+    def __init__(self, internal_force, material, contact, material_force, system, vertex=None):
+        self.internal_force = internal_force
+        self.material = material
+        self.contact = contact
+        self.material_force = material_force
+        self.vertex = vertex  # fem.contact.VertexContact or None
+        self._system = system
+        self._stiffness = None
+
+    @property
+    def stiffness(self) -> sp.csr_matrix:
+        if self._stiffness is None:
+            self._stiffness = self._system.tangent(self)
+        return self._stiffness
 
 
 class State(NamedTuple):
@@ -61,6 +88,9 @@ class CoupledSystem:
         ε_N and ε_T.
     adjust : float [m]
         Gap adjustment tolerance (:func:`fem.contact.initial_state`).
+    vertex_depth : float [m]
+        Deepest penetration of a slider vertex attributed to a plate facet
+        (:func:`fem.contact.vertex_contact`; used if ``nodes.segments`` is set).
     """
 
     fe: PlaneStrainQ1
@@ -71,6 +101,7 @@ class CoupledSystem:
     penalty: float
     tangential_penalty: float
     adjust: float = 1e-9
+    vertex_depth: float = 0.02
 
     def __post_init__(self):
         self.pose = np.asarray(self.pose, dtype=float)
@@ -103,24 +134,53 @@ class CoupledSystem:
         f = np.zeros(self.size)
         f[: self.n_plate] = self.fe.internal_force(mat.stress)
         f_mat = f.copy()
+        x = self.slave_positions(d)
+        pose = self.slider_pose(d)
         con = C.evaluate(
             self.shape,
             self.nodes,
-            self.slave_positions(d),
-            self.slider_pose(d),
+            x,
+            pose,
             state.contact,
             self.offset,
             self.penalty,
             self.tangential_penalty,
         )
+        vc = None
+        if self.nodes.segments is not None:
+            vc = C.vertex_contact(self.shape, self.nodes, x, pose, self.penalty,
+                                  self.vertex_depth)
+            con = C.add_vertices(con, vc)
         np.add.at(f, self.node_dofs.ravel(), -con.node_force.ravel())
         f[self.slider_dofs] -= con.slider_force
-        Km = self.fe.stiffness(mat.tangent)
+        return Evaluation(f, mat, con, f_mat, self, vc)
+
+    def tangent(self, ev: Evaluation) -> sp.csr_matrix:
+        """Full tangent K = K_mat + K_c of an evaluation [N/m²]."""
+        Km = self.fe.stiffness(ev.material.tangent)
         # pad the plate matrix with three empty rows/columns for the slider (no copy)
         indptr = np.concatenate([Km.indptr, np.full(3, Km.indptr[-1], dtype=Km.indptr.dtype)])
         Km = sp.csr_matrix((Km.data, Km.indices, indptr), shape=(self.size, self.size))
-        K = Km + C.assemble(con.stiffness, self.node_dofs, self.slider_dofs, self.size)
-        return Evaluation(f, K, mat, con, f_mat)
+        K = Km + C.assemble(ev.contact.stiffness, self.node_dofs, self.slider_dofs, self.size)
+        dofs, blocks = self.vertex_blocks(ev)
+        if blocks.size:
+            rows = np.broadcast_to(dofs[:, :, None], blocks.shape).ravel()
+            cols = np.broadcast_to(dofs[:, None, :], blocks.shape).ravel()
+            K = K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=K.shape)
+        return K
+
+    def vertex_blocks(self, ev: Evaluation):
+        """Full dofs (m, 7) and tangents (m, 7, 7) of the active slider-vertex contacts."""
+        vc = ev.vertex
+        if vc is None or not vc.active.any():
+            return np.zeros((0, 7), dtype=int), np.zeros((0, 7, 7))
+        k = np.flatnonzero(vc.active)
+        a, b = vc.ends[:, k]
+        dofs = np.concatenate(
+            [self.node_dofs[:, a].T, self.node_dofs[:, b].T,
+             np.broadcast_to(self.slider_dofs, (k.size, 3))], axis=1,
+        )
+        return dofs, vc.stiffness[:, :, k].transpose(2, 0, 1)
 
 
 class Reduction:
