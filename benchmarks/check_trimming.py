@@ -1,14 +1,14 @@
 """Check the FE runs' trimming (validation.fem_search) with the rigid model: the critical SA of
 every FEMA P695 near-field pulse component with and without trimming, both pressures.
 
-    python benchmarks/check_trimming.py [--workers 2] [--records N] [--out FILE]
+    python benchmarks/check_trimming.py [--trim end|window] [--workers 2] [--records N]
 
 For each record and pressure: rigid.critical_sa (fast search, 0.01 g, stop 1.5 g, untrimmed,
 no cache) and validation.fem_search.rigid_critical_sa_trimmed (the same search, every rung run
 from the strong-motion window's start and judged when the energy after its end is below the
 reach energy). Reports per record: both critical SA, the rungs whose verdict differs, rim
 impacts or failures after the trimmed end (the end argument says none), and the simulated
-time saved. Writes a CSV (default docs/results/trimming_check.csv).
+time saved. Writes docs/results/trimming_check_<trim>.csv.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pathlib import Path
 STEP_G, STOP_G = 0.01, 1.5
 
 
-def check(pressure: float, index: int) -> dict:
+def check(pressure: float, index: int, trim: str) -> dict:
     import rigid
     from rigid import DFPBearing, G
     from validation.fem_search import rigid_critical_sa_trimmed
@@ -34,7 +34,7 @@ def check(pressure: float, index: int) -> dict:
     bearing = DFPBearing(pressure=pressure)
     untrimmed = rigid.critical_sa(bearing, motion, STEP_G * G, stop=STOP_G * G, search="fast")
     trimmed = rigid_critical_sa_trimmed(bearing, motion, STEP_G * G, stop=STOP_G * G,
-                                        search="fast")
+                                        search="fast", trim=trim)
     full = {r.index: r.failed for r in untrimmed.rungs}
     cut = {j: r["failed"] for j, r in trimmed["rungs"].items()}
     common = full.keys() & cut.keys()
@@ -64,13 +64,15 @@ def main():
     parser.add_argument("--workers", type=int, default=len(os.sched_getaffinity(0)))
     parser.add_argument("--records", type=int, default=28)
     parser.add_argument("--pressures", type=float, nargs="+", default=[60.0, 10.0])
-    parser.add_argument("--out", default="docs/results/trimming_check.csv")
+    parser.add_argument("--trim", choices=("end", "window"), default="end")
+    parser.add_argument("--out", help="CSV (default docs/results/trimming_check_<trim>.csv)")
     args = parser.parse_args()
+    args.out = args.out or f"docs/results/trimming_check_{args.trim}.csv"
     jobs = [(p * 1e6, i) for p in args.pressures for i in range(args.records)]
     wall0 = time.perf_counter()
     rows = []
     with ProcessPoolExecutor(args.workers, mp_context=get_context("spawn")) as pool:
-        futures = [pool.submit(check, p, i) for p, i in jobs]
+        futures = [pool.submit(check, p, i, args.trim) for p, i in jobs]
         for fut in as_completed(futures):
             r = fut.result()
             rows.append(r)

@@ -126,7 +126,8 @@ def run_tasks(
         Results are read from it and each new one written to it at once.
     follow_up : callable, optional
         ``follow_up(task, result)`` → iterable of further tasks, called for every result
-        (stored or new), e.g. the next rung of a ladder.
+        (stored or new), e.g. the next rung of a ladder. They run before the tasks still
+        queued, so that a chain of follow-ups (a search) proceeds while a long queue waits.
     scheduler : str or dask.distributed.Client, optional
         Address of a Dask scheduler, or a client: run the tasks there.
     workers : int, optional
@@ -149,9 +150,9 @@ def run_tasks(
     def finish(task, result):
         results[task.key] = result
         bar.update()
-        for new in follow_up(task, result) if follow_up else ():
-            queue.append(new)
-            bar.total += 1
+        new = list(follow_up(task, result)) if follow_up else []
+        queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
+        bar.total += len(new)
 
     try:
         while queue or in_flight:

@@ -96,10 +96,10 @@ def _targets():
     return targets
 
 
-def _oracle(motion, crit):
+def _oracle(motion, crit, stop=STOP):
     """Lowest ladder rung whose scaled PGA reaches the limit, by brute force."""
     pga = np.max(np.abs(motion.acceleration))
-    for j in range(math.floor((STOP - STEP) / STEP + 1e-9) + 1):
+    for j in range(math.floor((stop - STEP) / STEP + 1e-9) + 1):
         if (STEP + j * STEP) / crit.record_sa * pga >= PGA_LIMIT:
             return STEP + j * STEP
     return None
@@ -149,6 +149,28 @@ def test_fem_searches_run_as_stored_resumable_tasks(tmp_path):
     assert CALLS == []
 
 
+def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):
+    """The pipeline's single task run (rigid ladders, then each FE search as a follow-up of
+    its record's rigid task): the rigid results equal run_rigid's, the FE search starts at
+    the rigid critical SA and ends on the stand-in's threshold rung (brute force)."""
+    from validation.pipeline import Settings, run_rigid, run_validation
+
+    _, a = rigid.ricker_record(0.2 * G, 2.5, "antisymmetric", dt=0.01, free=8.0)
+    motion = rigid.GroundMotion(name="pulse", dt=0.01, acceleration=a)
+    settings = Settings(pressures=(10e6,), criteria=(4,), stop=1.2 * G, fem=FESettings())
+    CALLS.clear()
+    found, fem = run_validation([motion], settings, tmp_path, workers=1, progress=False,
+                                fem_runner=threshold_runner)
+    (crit,) = found[10e6].actual
+    assert crit.sa is not None
+    (search,) = fem[10e6]
+    assert search.rigid_sa == crit.sa and search.probes[0]["sa"] == pytest.approx(crit.sa)
+    oracle = _oracle(motion, SimpleNamespace(record_sa=crit.record_sa), stop=1.2 * G)
+    assert search.sa == pytest.approx(oracle, abs=1e-12) and len(CALLS) == search.runs
+    again = run_rigid([motion], settings, tmp_path, workers=1, progress=False)
+    assert again[10e6].actual == found[10e6].actual
+
+
 # --------------------------------------------------------------- trimming
 
 
@@ -187,5 +209,6 @@ def test_trimming_keeps_the_rigid_critical_sa(pressure):
         j: r["failed"] for j, r in trimmed["rungs"].items()}
     assert all(r["late_impacts"] == 0 and not r["late_failure"]
                for r in trimmed["rungs"].values())
-    # the trimming did something: the runs start after the record's first sample
-    assert max(r["start"] or 0.0 for r in trimmed["rungs"].values()) > 0
+    # the trimming did something: the verdicts came before the end of the record + free
+    assert min(r["stop"] for r in trimmed["rungs"].values()) < (motion.acceleration.size - 1) \
+        * motion.dt + 20.0

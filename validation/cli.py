@@ -151,7 +151,7 @@ def validate(args) -> int:
 
     from rigid import G
     from validation.fem_search import FESettings
-    from validation.pipeline import Settings, run_fem, run_rigid
+    from validation.pipeline import Settings, run_validation
     from validation.summary import write_report
 
     out = _output_folder(args.out)
@@ -176,14 +176,12 @@ def validate(args) -> int:
           f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
     start = time.perf_counter()
     progress = None if args.progress else False
-    results = run_rigid(motions, settings, out, scheduler=args.scheduler, workers=args.workers,
-                        progress=progress)
+    results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
+                                          workers=args.workers, progress=progress)
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
         print(f"  {pressure / 1e6:g} MPa: {failed}/{len(res.actual)} records fail below "
               f"{settings.stop / G:g} g")
-    fem_results = run_fem(results, motions, settings, out, scheduler=args.scheduler,
-                          workers=args.workers, progress=progress)
     for pressure, found in fem_results.items():
         for r in found:
             sa = "no failure" if r.sa is None else f"{r.sa / G:.2f} g ({r.failure_mode})"

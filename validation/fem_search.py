@@ -19,42 +19,46 @@ If the FE outcome is not monotonic in the scale (resurrections, as the rigid mod
 records) a lower failing rung may exist outside the bracket; the table reports the bracket's
 lowest surviving rung, and the runs made, so that a reader can see what was tried.
 
-Trimming (:func:`strong_motion_window`)
----------------------------------------
+Trimming (:func:`trimmed_window`)
+---------------------------------
 Each FE run simulates only the part of the scaled record that can matter. Let
 a* = μ·g·cos φ_cap·M/(M + m_s) (μ friction, φ_cap the surface tilt at the capacity, M the
 supported mass, m_s the slider's), slightly below μ·g.
 
-(i) **Start.** A bearing at rest at the dish centres carries no pendulum force, so it slides
-only once the inertial force (M + m_s)·|a_g| exceeds the friction capacity ≈ μ·W. Before the
-first sample with |a_g| ≥ a* (and, the record being linear between samples, until the sample
-before it) the rigid-plastic bearing (stick until the friction capacity is reached) does not
-move: starting the run at rest a little before that sample (``lead`` seconds, at least one
-sample) gives the same motion. This neglects the elastic stick motion (the friction springs'
-0.1 mm elastic slip in the rigid model; the steel's elasticity in the FE model), which is
-micrometres, far below anything that decides an impact; the rigid-model check below shows it
-does not change a critical SA.
-
-(ii) **End.** After the last sample with |a_g| ≥ a* the ground acceleration (linear between
-samples, zero after the record) stays below a*. While the slider slides, friction on the two
-surfaces dissipates at least μ·N·(|v₁| + |v₂|) with N ≥ W·cos φ_cap (normal force of the
-pendulum, vertical inertia neglected), and the inertial load inputs at most
-(M + m_s)·|a_g|·(|v₁| + |v₂|), which is smaller: the mechanical energy E (kinetic +
-gravitational + elastic) cannot grow. Once E is below the energy needed to bring the slider
-to a rim (:func:`rigid.model.reach_energy`, with the rigid model's 5 % margin
+(ii) **End** (used by default, ``trim="end"``). After the last sample with |a_g| ≥ a* the
+ground acceleration (linear between samples, zero after the record) stays below a*. While the
+slider slides, friction on the two surfaces dissipates at least μ·N·(|v₁| + |v₂|) with
+N ≥ W·cos φ_cap (normal force of the pendulum, vertical inertia neglected), and the inertial
+load inputs at most (M + m_s)·|a_g|·(|v₁| + |v₂|), which is smaller: the mechanical energy E
+(kinetic + gravitational + elastic) cannot grow. Once E is below the energy needed to bring the
+slider to a rim (:func:`rigid.model.reach_energy`, with the rigid model's 5 % margin
 ``QUIET_FRACTION``), no later impact, and so no failure, is possible and the run can stop.
-The FE run is therefore made up to a guessed end (the rigid model's quiet time on the same
-input, plus a margin); if the FE model's own energy at that end is not below the bound, the
-run is repeated up to the record's end plus ``free`` seconds (what the rigid ladder
-simulates). The verdict of a run that still has the energy to reach a rim at that point is
+Up to that time the run is the untrimmed run itself, so its verdict can differ from the
+untrimmed one only if the argument fails. The FE run is made up to a guessed end (the rigid
+model's quiet time on the same input, plus ``margin``); if the FE model's own energy there is
+not below the bound, the run is repeated up to the record's end plus ``free`` seconds (what
+the rigid ladder simulates). A run that still has the energy to reach a rim at that point is
 flagged (``quiet`` false), like a rigid rung that ends with its ``free`` time.
+
+(i) **Start** (only with ``trim="window"``). A bearing at rest at the dish centres carries no
+pendulum force, so it slides only once the inertial force (M + m_s)·|a_g| exceeds the friction
+capacity ≈ μ·W: before the first sample with |a_g| ≥ a* (the record being linear between
+samples) the rigid-plastic bearing does not move, and starting at rest ``lead`` seconds before
+that sample (at least one sample) gives the same motion. This neglects the elastic stick
+motion (the friction springs' 0.1 mm elastic slip in the rigid model, the steel's elasticity
+in the FE model): micrometres. It is *not* the default because the rigid-model check
+(below) found that those micrometres, or mere round-off, flip the verdict at rungs where the
+rigid model's failure is chaotic (README, docs/impact_spectra.md): 2 of the first 8 records at
+60 MPa changed their critical SA by one or more rungs, with no impact after the trimmed end.
+On the scaled FEMA records the window starts 0.1–2.6 s into the record (21–26 s for the
+90 s Chi-Chi records), so the saving would be small except for those.
 
 The trimming is verified with the rigid model, which is fast: :func:`rigid_outcome` applies
 exactly this procedure to the rigid model, and ``benchmarks/check_trimming.py`` compares its
-critical SA with the untrimmed :func:`rigid.critical_sa` on the FEMA P695 near-field pulse
-records (``tests/test_fem_search.py`` on a few of them). On the scaled FEMA records the
-window is most of the record (scale factors of 2–10 put most samples above 0.05 g), so the
-saving is mainly the quiet tail after the record, which the energy bound cuts short.
+critical SA with the untrimmed :func:`rigid.critical_sa` on the 28 FEMA P695 near-field pulse
+records at both pressures (``tests/test_fem_search.py`` on one of them). At the critical
+scales most samples of the FEMA records exceed 0.05 g, so the end trimming's saving is the
+quiet tail after the strong motion and the record (the FE model has no early stop of its own).
 """
 
 from __future__ import annotations
@@ -138,6 +142,26 @@ def strong_motion_window(bearing: DFPBearing, acceleration, dt: float, *,
     return Window(start, end)
 
 
+TRIMS = ("end", "window", "none")
+
+
+def trimmed_window(bearing: DFPBearing, acceleration, dt: float, trim: str = "end", *,
+                   lead: float = 0.1) -> Window | None:
+    """The part of a scaled record a run simulates: ``"end"`` from the first sample to the
+    window's end (default; see the module docstring for why the start is kept), ``"window"``
+    the strong-motion window, ``"none"`` the whole record. None: the bearing cannot slide
+    (``"end"`` and ``"window"`` only)."""
+    n = np.asarray(acceleration).size
+    if trim == "none":
+        return Window(0, n - 1)
+    if trim not in TRIMS:
+        raise ValueError(f"trim must be one of {', '.join(TRIMS)}, got {trim!r}")
+    w = strong_motion_window(bearing, acceleration, dt, lead=lead)
+    if w is None or trim == "window":
+        return w
+    return Window(0, w.end)
+
+
 def _quiet_after(energy: np.ndarray, time: np.ndarray, t_from: float, bound: float):
     """First time ≥ t_from with energy < bound, or None."""
     ok = np.flatnonzero((time >= t_from - 1e-9) & (energy < bound))
@@ -145,15 +169,16 @@ def _quiet_after(energy: np.ndarray, time: np.ndarray, t_from: float, bound: flo
 
 
 def rigid_outcome(bearing: DFPBearing, acceleration, dt: float, scale: float, *,
-                  trim: bool = True, free: float = 20.0, lead: float = 0.1) -> dict:
+                  trim: str = "end", free: float = 20.0, lead: float = 0.1) -> dict:
     """The rigid model's verdict at one scale, with the FE runs' trimming (to verify it).
 
-    With ``trim`` the run starts at rest at the window's start and its verdict is the one at
-    the first time after the window's end at which the mechanical energy (kinetic +
-    potential) is below ``QUIET_FRACTION`` × the reach energy; ``late_impacts`` counts rim
-    impacts after that time (the end argument says there are none; the run is continued to
-    the record's end, and after it until quiet, to check it). Without ``trim``: the whole
-    record plus up to ``free`` seconds, as :func:`rigid.critical_sa` runs it.
+    With ``trim`` "end" or "window" (:func:`trimmed_window`) the run starts at rest at the
+    window's start and its verdict is the one at the first time after the window's end at
+    which the mechanical energy (kinetic + potential) is below ``QUIET_FRACTION`` × the reach
+    energy; ``late_impacts`` counts rim impacts after that time (the end argument says there
+    are none; the run is continued to the record's end, and after it until quiet, to check
+    it). With "none": the whole record plus up to ``free`` seconds, as
+    :func:`rigid.critical_sa` runs it.
 
     Returns
     -------
@@ -167,7 +192,7 @@ def rigid_outcome(bearing: DFPBearing, acceleration, dt: float, scale: float, *,
 
     a = scale * np.asarray(acceleration, dtype=float)
     total = (a.size - 1) * dt + free
-    window = strong_motion_window(bearing, a, dt, lead=lead) if trim else Window(0, a.size - 1)
+    window = trimmed_window(bearing, a, dt, trim, lead=lead)
     if window is None:
         return {"failed": False, "failure_time": None, "impacts": 0,
                 "max_impact_velocity": 0.0, "late_impacts": 0, "late_failure": False,
@@ -176,7 +201,7 @@ def rigid_outcome(bearing: DFPBearing, acceleration, dt: float, scale: float, *,
     r = simulate(bearing, a[window.start:], dt, duration=total - t0, stop_at_failure=True,
                  on_instability="refine", stop_when_quiet=True)
     stop = total
-    if trim:
+    if trim != "none":
         e = r.energy.kinetic + r.energy.potential
         q = _quiet_after(e, r.time, (window.end - window.start) * dt,
                          QUIET_FRACTION * reach_energy(bearing))
@@ -199,7 +224,7 @@ def rigid_outcome(bearing: DFPBearing, acceleration, dt: float, scale: float, *,
 def rigid_critical_sa_trimmed(bearing: DFPBearing, motion, step: float = 0.01 * G, *,
                               stop: float = 3.0 * G, search: str = "fast", coarse: int = 10,
                               refine_ratio: float = 0.8, free: float = 20.0,
-                              lead: float = 0.1) -> dict:
+                              trim: str = "end", lead: float = 0.1) -> dict:
     """Critical SA of the rigid model with every rung trimmed (:func:`rigid_outcome`), by the
     same ladder search as :func:`rigid.critical_sa` (whose ``search="fast"`` logic it reuses),
     to compare with the untrimmed result.
@@ -220,7 +245,7 @@ def rigid_critical_sa_trimmed(bearing: DFPBearing, motion, step: float = 0.01 * 
     def rung(j):
         if j not in done:
             out = rigid_outcome(bearing, acc, motion.dt, (step + j * step) / record_sa,
-                                free=free, lead=lead)
+                                trim=trim, free=free, lead=lead)
             outcomes[j] = out
             done[j] = SimpleNamespace(failed=out["failed"],
                                       max_impact_velocity=out["max_impact_velocity"])
@@ -263,7 +288,7 @@ def _duration_guess(bearing, a, dt, window, total, margin) -> float:
 
 
 def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str = "coarse",
-            max_step: float = 5e-3, impact_step: float = 5e-4, trim: bool = True,
+            max_step: float = 5e-3, impact_step: float = 5e-4, trim: str = "end",
             free: float = 20.0, lead: float = 0.1, margin: float = 1.0,
             simulate=None) -> dict:
     """One FE run of a scaled record, trimmed (module docstring); runs in a worker.
@@ -280,9 +305,9 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         :data:`MESHES`.
     max_step, impact_step : float [s]
         :func:`fem.simulate`'s time steps.
-    trim : bool
-        Simulate the strong-motion window only (with the energy check at its end); False runs
-        the record plus ``free`` seconds.
+    trim : {"end", "window", "none"}
+        :func:`trimmed_window`: stop after the strong motion once the energy check allows
+        (default), also start at its beginning, or run the record plus ``free`` seconds.
     free : float [s]
         Longest time simulated after the record.
     lead, margin : float [s]
@@ -312,7 +337,7 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     a = scale * np.asarray(acceleration, dtype=float)
     record_end = (a.size - 1) * dt
     reach = reach_energy(b)
-    window = strong_motion_window(b, a, dt, lead=lead) if trim else Window(0, a.size - 1)
+    window = trimmed_window(b, a, dt, trim, lead=lead)
     out = {"failed": False, "failure_mode": None, "failure_time": None,
            "numerical_failure": False, "detail": None, "start": None, "strong_end": None,
            "end": None, "energy_end": 0.0, "reach_energy": reach, "quiet": True, "runs": 0,
@@ -323,7 +348,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         return {**out, "cpu_seconds": 0.0, "wall_seconds": 0.0}
     t0 = window.start * dt
     total = record_end + free - t0
-    durations = [_duration_guess(b, a, dt, window, total, margin) if trim else total, total]
+    durations = [total if trim == "none" else _duration_guess(b, a, dt, window, total, margin),
+                 total]
     for duration in dict.fromkeys(durations):  # the guess, then (if needed) the whole rest
         res = simulate(b, a[window.start:], dt, duration=duration,
                        mesh_options=MESHES[mesh], max_step=max_step, impact_step=impact_step)
@@ -428,7 +454,7 @@ class FESettings:
     mesh: str = "coarse"
     max_step: float = 5e-3
     impact_step: float = 5e-4
-    trim: bool = True
+    trim: str = "end"
     free: float = 20.0
     lead: float = 0.1
     margin: float = 1.0
@@ -436,7 +462,9 @@ class FESettings:
     def describe(self) -> dict:
         return {"FE mesh": f"{self.mesh} ({MESHES[self.mesh] or 'generator defaults'})",
                 "FE time step [s]": f"{self.max_step:g} free sliding, {self.impact_step:g} "
-                "at a rim", "FE trimming": "strong-motion window" if self.trim else "none"}
+                "at a rim", "FE trimming": {"end": "after the strong motion, once quiet",
+                                     "window": "strong-motion window",
+                                     "none": "none"}[self.trim]}
 
 
 @dataclass
@@ -489,6 +517,78 @@ def _source_hash() -> str:
     return h.hexdigest()
 
 
+class FESearches:
+    """Several FE critical-SA searches driven through :func:`rigid.parallel.run_tasks`:
+    :meth:`add` gives a search's first task, :meth:`follow_up` its next one from each result,
+    :meth:`results` the answers. A caller can add searches from its own follow-ups (the
+    validation pipeline starts a record's FE search as soon as its rigid result arrives).
+
+    Parameters
+    ----------
+    settings : FESettings
+    step, start, stop : float [m/s²]
+        The ladder: rungs at start + j·step ≤ stop (the rigid ladder's).
+    runner : callable
+        ``runner(bearing=dict, acceleration, dt, scale, **settings)`` → dict with at least
+        ``failed``, ``failure_mode``, ``failure_time``, ``cpu_seconds``; :func:`fem_run`, or a
+        stand-in (tests).
+    """
+
+    kind = "fem-run"
+
+    def __init__(self, settings: FESettings, *, step: float, start: float, stop: float,
+                 runner=fem_run):
+        self.step, self.start = float(step), float(start)
+        self.highest = math.floor((stop - start) / step + 1e-9)
+        self.runner = runner
+        self.model = (_source_hash() if runner is fem_run
+                      else f"{runner.__module__}.{runner.__qualname__}")
+        self.options = dataclasses.asdict(settings)
+        self.targets, self.searches, self.found, self.by_key = [], [], [], {}
+
+    def _task(self, i, j) -> Task:
+        bearing, motion, rigid_crit = self.targets[i]
+        scale = (self.start + j * self.step) / rigid_crit.record_sa
+        kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
+                  "dt": motion.dt, "scale": scale, **self.options}
+        key = task_key(self.kind, model=self.model, **kwargs)
+        self.by_key[key] = (i, j)
+        return Task(key, self.kind, self.runner, kwargs)
+
+    def add(self, bearing: DFPBearing, motion, rigid_crit) -> Task:
+        """Start a search (``rigid_crit``: the rigid model's CriticalSA); its first task."""
+        i = len(self.targets)
+        self.targets.append((bearing, motion, rigid_crit))
+        j0 = (self.highest if rigid_crit.sa is None
+              else round((rigid_crit.sa - self.start) / self.step))
+        self.searches.append(BracketBisect(j0, 0, self.highest))
+        self.found.append(FECritical(motion.name, bearing.pressure, rigid_crit.sa))
+        return self._task(i, self.searches[i].next_rung())
+
+    def follow_up(self, done_task, result) -> tuple:
+        """The search's next task after ``done_task`` (one of ours), or ()."""
+        i, j = self.by_key[done_task.key]
+        s = self.searches[i]
+        if s.done or s.next_rung() != j:
+            return ()  # a duplicate outcome (not expected: every rung is asked for once)
+        s.record(j, bool(result["failed"]))
+        self.found[i].probes.append({"sa": self.start + j * self.step,
+                                     "scale": done_task.kwargs["scale"], **result})
+        nxt = s.next_rung()
+        return () if nxt is None else (self._task(i, nxt),)
+
+    def results(self) -> list:
+        """FECritical of every search, in the order added (complete once run_tasks returns)."""
+        for s, r in zip(self.searches, self.found, strict=True):
+            if s.critical is not None:
+                r.sa = self.start + s.critical * self.step
+                at = next(p for p in r.probes if math.isclose(p["sa"], r.sa))
+                r.failure_mode, r.failure_time = at["failure_mode"], at["failure_time"]
+            if s.lo is not None and (s.critical is None or s.lo < s.critical):
+                r.survived_below = self.start + s.lo * self.step
+        return self.found
+
+
 def run_fem_searches(targets, settings: FESettings, store: ResultStore, *, step: float,
                      start: float, stop: float, runner=fem_run, scheduler=None,
                      workers: int | None = None, progress: bool | None = None) -> list:
@@ -497,15 +597,10 @@ def run_fem_searches(targets, settings: FESettings, store: ResultStore, *, step:
     Parameters
     ----------
     targets : sequence of (DFPBearing, GroundMotion, rigid.ida.CriticalSA)
-    settings : FESettings
+    settings, step, start, stop, runner
+        As :class:`FESearches`.
     store : ResultStore
         Every FE run is stored there as it finishes (kind ``"fem-run"``).
-    step, start, stop : float [m/s²]
-        The ladder: rungs at start + j·step ≤ stop (the rigid ladder's).
-    runner : callable
-        ``runner(bearing=dict, acceleration, dt, scale, **settings)`` → dict with at least
-        ``failed``, ``failure_mode``, ``failure_time``, ``cpu_seconds``; :func:`fem_run`, or a
-        stand-in (tests).
     scheduler, workers, progress
         As :func:`rigid.parallel.run_tasks`.
 
@@ -513,45 +608,8 @@ def run_fem_searches(targets, settings: FESettings, store: ResultStore, *, step:
     -------
     list of FECritical, in the order of ``targets``.
     """
-    highest = math.floor((stop - start) / step + 1e-9)
-    model = _source_hash() if runner is fem_run else f"{runner.__module__}.{runner.__qualname__}"
-    options = dataclasses.asdict(settings)
-    searches, results, by_key = [], [], {}
-
-    def task(i, j):
-        bearing, motion, rigid_crit = targets[i]
-        scale = (start + j * step) / rigid_crit.record_sa
-        kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
-                  "dt": motion.dt, "scale": scale, **options}
-        key = task_key("fem-run", model=model, **kwargs)
-        by_key[key] = (i, j)
-        return Task(key, "fem-run", runner, kwargs)
-
-    first = []
-    for i, (bearing, motion, rigid_crit) in enumerate(targets):
-        j0 = highest if rigid_crit.sa is None else round((rigid_crit.sa - start) / step)
-        searches.append(BracketBisect(j0, 0, highest))
-        results.append(FECritical(motion.name, bearing.pressure, rigid_crit.sa))
-        first.append(task(i, searches[i].next_rung()))
-
-    def follow_up(done_task, result):
-        i, j = by_key[done_task.key]
-        s = searches[i]
-        if s.done or s.next_rung() != j:
-            return ()  # a duplicate outcome (not expected: every rung is asked for once)
-        s.record(j, bool(result["failed"]))
-        results[i].probes.append({"sa": start + j * step,
-                                  "scale": done_task.kwargs["scale"], **result})
-        nxt = s.next_rung()
-        return () if nxt is None else (task(i, nxt),)
-
-    run_tasks(first, store, follow_up=follow_up, scheduler=scheduler, workers=workers,
-              progress=progress, description="FE critical SA")
-    for s, r in zip(searches, results, strict=True):
-        if s.critical is not None:
-            r.sa = start + s.critical * step
-            at = next(p for p in r.probes if math.isclose(p["sa"], r.sa))
-            r.failure_mode, r.failure_time = at["failure_mode"], at["failure_time"]
-        if s.lo is not None and (s.critical is None or s.lo < s.critical):
-            r.survived_below = start + s.lo * step
-    return results
+    searches = FESearches(settings, step=step, start=start, stop=stop, runner=runner)
+    first = [searches.add(*t) for t in targets]
+    run_tasks(first, store, follow_up=searches.follow_up, scheduler=scheduler,
+              workers=workers, progress=progress, description="FE critical SA")
+    return searches.results()

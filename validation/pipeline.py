@@ -15,7 +15,7 @@ from rigid import DFPBearing, G
 from rigid.parallel import Task, run_tasks
 from rigid.store import ResultStore, task_key
 
-from .fem_search import FESettings, run_fem_searches
+from .fem_search import FESearches, FESettings, run_fem_searches
 
 
 @dataclass(frozen=True)
@@ -115,6 +115,33 @@ class PressureResults:
     predictions: dict = field(default_factory=dict)  # criterion → list of PredictedSA
 
 
+def _rigid_tasks(motions, settings: Settings, out: Path):
+    """The rigid record tasks and, by key, their (pressure [Pa], record index)."""
+    cache = str(out / "ladders")
+    tasks, index = [], {}
+    for pressure in settings.pressures:
+        bearing = dataclasses.asdict(DFPBearing(pressure=pressure))
+        for i, m in enumerate(motions):
+            kwargs = {"bearing": bearing, "name": m.name, "dt": m.dt,
+                      "acceleration": m.acceleration, "criteria": list(settings.criteria),
+                      "step": settings.step, "stop": settings.stop, "search": settings.search}
+            key = task_key("rigid-record", **kwargs)
+            tasks.append(Task(key, "rigid-record", record_task, {**kwargs, "cache": cache}))
+            index[key] = (pressure, i)
+    return tasks, index
+
+
+def _collect_rigid(tasks, index, results, settings) -> dict:
+    out_by_pressure = {p: PressureResults(DFPBearing(pressure=p)) for p in settings.pressures}
+    for task in tasks:
+        r = out_by_pressure[index[task.key][0]]
+        data = results[task.key]
+        r.actual.append(_critical_from_json(data["actual"]))
+        for c, p in data["predictions"].items():
+            r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
+    return out_by_pressure
+
+
 def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
               workers: int | None = None, progress: bool | None = None) -> dict:
     """Critical SA and predictions for every record and pressure.
@@ -123,29 +150,60 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
     -------
     dict {pressure [Pa]: PressureResults}
     """
-    store = ResultStore(out / "results.sqlite")
-    cache = str(out / "ladders")
-    tasks, index = [], {}
-    for pressure in settings.pressures:
-        bearing = dataclasses.asdict(DFPBearing(pressure=pressure))
-        for m in motions:
-            kwargs = {"bearing": bearing, "name": m.name, "dt": m.dt,
-                      "acceleration": m.acceleration, "criteria": list(settings.criteria),
-                      "step": settings.step, "stop": settings.stop, "search": settings.search}
-            key = task_key("rigid-record", **kwargs)
-            tasks.append(Task(key, "rigid-record", record_task, {**kwargs, "cache": cache}))
-            index[key] = pressure
-    results = run_tasks(tasks, store, scheduler=scheduler, workers=workers, progress=progress,
-                        description="rigid critical SA")
-    out_by_pressure = {p: PressureResults(DFPBearing(pressure=p)) for p in settings.pressures}
-    for task in tasks:
-        r = out_by_pressure[index[task.key]]
-        data = results[task.key]
-        r.actual.append(_critical_from_json(data["actual"]))
-        for c, p in data["predictions"].items():
-            r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
-    store.close()
-    return out_by_pressure
+    tasks, index = _rigid_tasks(motions, settings, out)
+    with ResultStore(out / "results.sqlite") as store:
+        results = run_tasks(tasks, store, scheduler=scheduler, workers=workers,
+                            progress=progress, description="rigid critical SA")
+    return _collect_rigid(tasks, index, results, settings)
+
+
+def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
+                   workers: int | None = None, progress: bool | None = None,
+                   fem_runner=None):
+    """The rigid ladders and predictions, and the FE searches, in one run of tasks: a
+    record's FE search starts as soon as its rigid critical SA is known (the FE records'
+    rigid tasks are queued first), so FE runs overlap the remaining rigid work.
+
+    ``fem_runner`` replaces :func:`validation.fem_search.fem_run` (tests).
+
+    Returns
+    -------
+    (dict {pressure [Pa]: PressureResults}, dict {pressure [Pa]: list of FECritical})
+    """
+    tasks, index = _rigid_tasks(motions, settings, out)
+    targets = set()
+    if settings.fem is not None:
+        targets = {(p, i) for p in (settings.fem_pressures or settings.pressures)
+                   for i in settings.fem_record_indices(motions)}
+    first = sorted(tasks, key=lambda t: index[t.key] not in targets)  # stable
+    searches = None if settings.fem is None else FESearches(
+        settings.fem, step=settings.step, start=settings.step, stop=settings.stop,
+        **({} if fem_runner is None else {"runner": fem_runner}))
+    owners = []
+
+    def follow_up(task, result):
+        if task.kind != "rigid-record":
+            return searches.follow_up(task, result)
+        if index[task.key] not in targets:
+            return ()
+        pressure, i = index[task.key]
+        owners.append((pressure, i))
+        return (searches.add(DFPBearing(pressure=pressure), motions[i],
+                             _critical_from_json(result["actual"])),)
+
+    with ResultStore(out / "results.sqlite") as store:
+        results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
+                            workers=workers, progress=progress,
+                            description="rigid ladders and FE runs")
+    rigid_results = _collect_rigid(tasks, index, results, settings)
+    fem: dict = {}
+    if searches is not None:
+        order = {key: k for k, key in enumerate(sorted(targets, key=lambda t: (
+            settings.pressures.index(t[0]), t[1])))}
+        for owner, found in sorted(zip(owners, searches.results(), strict=True),
+                                   key=lambda x: order[x[0]]):
+            fem.setdefault(owner[0], []).append(found)
+    return rigid_results, fem
 
 
 def run_fem(rigid_results: dict, motions, settings: Settings, out: Path, *, scheduler=None,

@@ -290,7 +290,8 @@ def _fem_section(report, fem, settings, out, figures) -> dict:
     report.table(rows, columns, caption="fem_comparison.csv")
     run_columns = {"record": "record", "pressure_mpa": "pressure [MPa]", "run": "run",
                    "sa_g": "SA [g]", "failed": "failed", "failure_mode": "mode",
-                   "failure_time_s": "failure time [s]", "start_s": "from [s]",
+                   "failure_time_s": "failure time [s]",
+                   "numerical_failure": "numerical failure", "start_s": "from [s]",
                    "end_s": "to [s]", "quiet": "quiet at end", "steps": "steps",
                    "max_plastic_strain": "max plastic strain",
                    "max_rim_force_mn": "max rim force [MN]", "cpu_s": "CPU [s]"}
