@@ -212,3 +212,27 @@ def test_trimming_keeps_the_rigid_critical_sa(pressure):
     # the trimming did something: the verdicts came before the end of the record + free
     assert min(r["stop"] for r in trimmed["rungs"].values()) < (motion.acceleration.size - 1) \
         * motion.dt + 20.0
+
+
+@pytest.mark.slow
+def test_one_real_fem_run_through_the_runner(tmp_path):
+    """fem_run with the real FE model on the coarse mesh: the heavy bearing driven into its
+    rims by a 1 s, 3 m/s² half-sine (tests/test_fem_failure.py: rim yielding) fails by
+    yielding in one run, not before the slider reaches a rim: the rigid model's first impact
+    time less 2 % (test_fem_failure checks the FE model reaches the rims within 2 % of it).
+    ~10 s: the run stops at the failure, about 1 s into the input."""
+    pytest.importorskip("skfem")
+    pytest.importorskip("gmsh")
+    import dataclasses
+
+    from validation.fem_search import fem_run
+
+    dt = 0.01
+    t = np.arange(0.0, 3.0 + dt / 2, dt)
+    a = np.where(t < 1.0, 3.0 * np.sin(np.pi * t), 0.0)
+    bearing = DFPBearing(pressure=60e6)
+    out = fem_run(dataclasses.asdict(bearing), a, dt, 1.0, max_step=0.02)
+    assert out["failed"] and out["failure_mode"] == "yielding", out
+    assert out["runs"] == 1 and out["quiet"] and out["dofs"] == 905
+    first_impact = rigid.simulate(bearing, a, dt).impacts[0].time
+    assert 0.98 * first_impact <= out["failure_time"] < t[-1]

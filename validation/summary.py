@@ -123,7 +123,7 @@ def plot_fem_vs_rigid(rows: list[dict], stop: float, ax=None):
         _, ax = plt.subplots(figsize=(4.8, 4.8))
     colours = dict(zip(sorted({r["pressure_mpa"] for r in rows}, reverse=True),
                        ("tab:red", "tab:blue", "tab:green", "tab:purple"), strict=False))
-    values = [v for r in rows for v in (r["rigid_sa_g"], r["fem_sa_g"]) if v is not None]
+    values = [stop if v is None else v for r in rows for v in (r["rigid_sa_g"], r["fem_sa_g"])]
     top = 1.1 * max([*values, 0.1])
     ax.plot([0, top], [0, top], "k-", lw=1, label="1:1")
     seen = set()
