@@ -17,6 +17,14 @@ from .bearing import DFPBearing, G
 #: the explicit stability limit of the stiffest contact mode at 60 MPa.
 DEFAULT_MAX_STEP = 2e-5
 
+#: Step far from the rims [s]: the kernel's coarse steps, with the contacts' stiffness in a
+#: modified mass M + h²K (:mod:`rigid._kernel`), which removes the explicit stability limit of
+#: the stiff contact modes (1/ω ≈ 6e-5 s) and leaves the sliding motion (period ≈ 4.4 s)
+#: resolved to < 1e-4. Twice this step made 4 of 12 rim-impact pulses unstable at 10 MPa
+#: (BENCHMARKS.md); the energy check catches such runs and ``on_instability="refine"``
+#: halves both steps.
+FAR_STEP = 5e-4
+
 RIM_NAMES = ("bottom -x", "bottom +x", "top -x", "top +x")
 _FAILURE_DETAIL = {
     K.FAIL_BOTTOM_RIM: "a bottom vertex cleared a bottom rim",
@@ -122,6 +130,9 @@ class SimulationResult:
     max_rim_force : float [N]
     internal_step : float [s]
     steps : int
+        Simulated time in internal (fine) steps.
+    steps_taken : int
+        Integration steps actually taken, fine and coarse (the cost of the run).
     bearing : DFPBearing
     """
 
@@ -147,6 +158,7 @@ class SimulationResult:
     max_rim_force: float
     internal_step: float
     steps: int
+    steps_taken: int
     bearing: DFPBearing
 
     @property
@@ -215,6 +227,8 @@ def kernel_parameters(bearing: DFPBearing) -> np.ndarray:
     p[K.P_DMAX] = bearing.rim_thickness
     # the coarse step needs the contacts near their static load: twice the static penetration
     p[K.P_DFAR] = 2.0 * _static_penetration((m + ms) * G, bearing)
+    # ... and every vertex seated: at least a quarter of the smaller static penetration
+    p[K.P_DNEAR] = 0.25 * _static_penetration(m * G, bearing)
     return p
 
 
@@ -242,8 +256,9 @@ def static_state(bearing: DFPBearing) -> np.ndarray:
     return np.array([0.0, z_s, 0.0, 0.0, z_t])
 
 
-def far_step(bearing: DFPBearing) -> float:
-    """Largest step [s] used away from the rims: 1.5/ω of the stiffest mode at rest.
+def explicit_step(bearing: DFPBearing) -> float:
+    """Medium step [s] away from the rims while a contact is unsettled: 1.5/ω of the stiffest
+    mode at rest, below the explicit stability limit.
 
     Modes of the slider on its four vertex springs k_c = 1.5·k·√δ (linearised Hertz at the
     static penetration δ): vertical √(4k_c/m_s), rocking √(4k_c(b/2)²/J), and horizontal on
@@ -333,9 +348,10 @@ def simulate(
         :class:`NumericalInstabilityError`; return a result with ``numerical_failure`` set
         (and a warning); or rerun with the step halved up to three times, then raise.
     coarse_factor : int, optional
-        Far from the rims, with all contacts near their static load, the kernel takes this
-        many internal steps at once (1 disables it). Default: as many as keep the step below
-        1.5/ω of the stiffest mode at rest (:func:`far_step`): 4 steps of 2e-5 s at 60 MPa.
+        Far from the rims, with every vertex seated near its static load, the kernel takes
+        this many internal steps at once (1 disables it); with a contact unsettled, the
+        fewer steps of :func:`explicit_step`. Default: as many as make :data:`FAR_STEP` (25
+        steps of 2e-5 s).
     stop_when_quiet : bool
         After the record ends, stop once the mechanical energy is below 95 % of what the
         supported mass needs to reach a rim: no later impact or failure is possible. Impacts
@@ -378,8 +394,10 @@ def simulate(
     for attempt in range(4 if on_instability == "refine" else 1):
         n_sub = max(1, math.ceil(dt / (max_step / 2**attempt) - 1e-9))
         h = dt / n_sub
-        coarse = coarse_factor or max(1, math.floor(far_step(bearing) / h))
-        K.integrate(p, static_state(bearing), a, n_sub, h, n_samples * n_sub, int(coarse),
+        medium = max(1, math.floor(explicit_step(bearing) / 2**attempt / h))
+        coarse = coarse_factor or max(medium, math.floor(FAR_STEP / 2**attempt / h + 1e-9))
+        medium = min(medium, coarse)
+        K.integrate(p, static_state(bearing), a, n_sub, h, n_samples * n_sub, medium, int(coarse),
                     quiet_energy, bool(stop_at_failure), hist, events, summary)
         if int(summary[K.S_STATUS]) != K.STATUS_NUMERICAL:
             break
@@ -431,5 +449,6 @@ def simulate(
         max_rim_force=float(summary[K.S_MAX_RIMF]),
         internal_step=h,
         steps=int(summary[K.S_STEPS]),
+        steps_taken=int(summary[K.S_TAKEN]),
         bearing=bearing,
     )
