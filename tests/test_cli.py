@@ -70,6 +70,12 @@ def test_output_is_a_file(tmp_path):
                         str(tmp_path / "file")), "cannot write")
 
 
+def test_fem_pressure_not_in_the_run(tmp_path):
+    _one_line_error(dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure",
+                        "10", "--fem-pressure", "60", "--out", str(tmp_path / "o")),
+                    "--fem-pressure 60")
+
+
 def test_bad_number_from_argparse(tmp_path):
     result = dfp("demo", "--period", "-1")
     assert result.returncode == 2 and "must be positive" in result.stderr
