@@ -1,18 +1,23 @@
 """Speed of the FE model (fem.simulate) and the cost of one Newton iteration against mesh size.
 
-1. One FE run of a symmetric Ricker pulse, Tp = 2 s, 10 s of input (dt = 5 ms), on the default
+1. Time per Newton iteration at the gravity equilibrium, for meshes from coarse to fine: one
+   evaluation (return map, contact, internal forces) plus the linear solve, (a) as fem.dynamics
+   does it (fem.linear.TangentSolver: cached elastic LU + low-rank update, after its
+   factorization and columns are cached) and (b) the former direct sparse LU of the assembled
+   tangent.
+2. One FE run of a symmetric Ricker pulse, Tp = 2 s, 10 s of input (dt = 5 ms), on the default
    mesh, for the 60 MPa bearing: a 0.2 g pulse that stays off the rims (whole 10 s) and a 0.3 g
-   pulse that drives the slider into the rims (stops at failure). Prints wall time, steps,
-   Newton iterations, rejected steps and dofs.
-2. Time per Newton iteration (material return map + contact + assembly + reduction + sparse
-   LU solve) at the gravity equilibrium, for meshes from coarse to fine.
+   pulse that drives the slider into the rims (stops at failure). Prints wall and CPU time
+   (median of ``--repeat`` runs after a short warm-up run), steps, Newton iterations, rejected
+   steps and dofs.
 
-Run: ``python benchmarks/bench_fem.py`` (about 10 minutes on 2 cores). ``--quick`` skips the
-0.3 g run.
+Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N]`` (about
+10 minutes on 2 cores with the default 3 repeats). ``--quick`` skips the 0.3 g run.
 """
 
 from __future__ import annotations
 
+import os
 import platform
 import sys
 import tempfile
@@ -31,8 +36,9 @@ MESHES = {
 }
 
 
-def newton_iteration_cost(options: dict, cache: str, repeat: int = 5):
-    """Median wall time [s] of one full Newton iteration at the gravity state, and dofs."""
+def newton_iteration_cost(options: dict, cache: str, repeat: int = 7):
+    """Median CPU time [s] of one Newton iteration (evaluation + solve) at the gravity state,
+    with the production solver and with a direct sparse LU; and the dofs."""
     from scipy.sparse import diags
     from scipy.sparse.linalg import spsolve
 
@@ -43,43 +49,62 @@ def newton_iteration_cost(options: dict, cache: str, repeat: int = 5):
     integ = Integrator(model, lambda t: 0.0)
     a, state, _ = integ.gravity_step()
     d = model.reduction.expand(a)
-    times = []
+    h = integ.control.max_step
+    c0, s = 1.0 / (integ.hht.beta * h * h), 1.0 + integ.hht.alpha
+    solver = integ.solver
+    ev = model.system.evaluate(d, state)
+    solver.solve(ev, c0, s, model.reduction.reduce(ev.internal_force))  # factorize, cache
+    fast, direct = [], []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
+        ev = model.system.evaluate(d, state)
+        solver.solve(ev, c0, s, model.reduction.reduce(ev.internal_force))
+        fast.append(time.process_time() - t0)
+        t0 = time.process_time()
         ev = model.system.evaluate(d, state)
         r = model.reduction.reduce(ev.internal_force)
-        K = model.reduction.reduce_matrix(ev.stiffness) + diags(model.mass * 1e4)
+        K = model.reduction.reduce_matrix(ev.stiffness) * s + diags(c0 * model.mass)
         spsolve(K.tocsc(), r)
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), model.reduction.nreduced
+        direct.append(time.process_time() - t0)
+    return float(np.median(fast)), float(np.median(direct)), model.reduction.nreduced
 
 
-def run(amplitude_g: float, cache: str):
+def run(amplitude_g: float, cache: str, duration=None):
+    """One run; returns the result, wall and CPU time [s]."""
     _, a = ricker_record(amplitude_g * G, 2.0, dt=0.005, duration=10.0)
-    t0 = time.perf_counter()
-    res = fem.simulate(DFPBearing(), a, 0.005, cache_dir=cache)
-    return res, time.perf_counter() - t0
+    t0, c0 = time.perf_counter(), time.process_time()
+    res = fem.simulate(DFPBearing(), a, 0.005, duration=duration, cache_dir=cache)
+    return res, time.perf_counter() - t0, time.process_time() - c0
 
 
 def main() -> None:
     quick = "--quick" in sys.argv
-    print(f"python {platform.python_version()}, {platform.machine()}, numpy {np.__version__}")
+    repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
+    print(f"python {platform.python_version()}, {platform.machine()}, numpy {np.__version__}, "
+          f"{os.cpu_count()} cores, OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS')}")
     with tempfile.TemporaryDirectory() as cache:
-        print("\nTime per Newton iteration at the gravity equilibrium (median of 5):")
-        print(f"{'mesh':45s} {'dofs':>7s} {'ms/iteration':>13s}")
+        print("\nCPU time per Newton iteration at the gravity equilibrium (median of 7):")
+        print(f"{'mesh':45s} {'dofs':>7s} {'ms (solver)':>12s} {'ms (direct LU)':>15s}")
         for name, options in MESHES.items():
-            cost, dofs = newton_iteration_cost(options, cache)
-            print(f"{name:45s} {dofs:7d} {cost * 1e3:13.1f}")
-        print("\nRicker pulse, Tp = 2 s, 10 s of input, 60 MPa bearing, default mesh:")
+            fast, direct, dofs = newton_iteration_cost(options, cache)
+            print(f"{name:45s} {dofs:7d} {fast * 1e3:12.1f} {direct * 1e3:15.1f}")
+        print("\nRicker pulse, Tp = 2 s, 10 s of input, 60 MPa bearing, default mesh "
+              f"(median of {repeat} after a 0.1 s warm-up run):")
+        run(0.2, cache, duration=0.1)
         for amplitude in (0.2,) if quick else (0.2, 0.3):
-            res, wall = run(amplitude, cache)
-            end = res.time[-1]
-            per_iter = wall / max(res.newton_iterations, 1)
+            load0 = os.getloadavg()[0]
+            runs = [run(amplitude, cache) for _ in range(repeat)]
+            res = runs[0][0]
+            wall = float(np.median([w for _, w, _ in runs]))
+            cpu = float(np.median([c for _, _, c in runs]))
             print(
-                f"  Ap = {amplitude} g: wall {wall:.1f} s for {end:.2f} s simulated, "
-                f"{res.steps} steps, {res.newton_iterations} Newton iterations "
-                f"({res.newton_iterations / max(res.steps, 1):.2f}/step, {per_iter * 1e3:.0f} ms "
-                f"each incl. overhead), {res.rejected_steps} rejected steps, {res.dofs} dofs; "
+                f"  Ap = {amplitude} g: wall {wall:.1f} s, CPU {cpu:.1f} s "
+                f"(runs: {', '.join(f'{w:.0f}/{c:.0f}' for _, w, c in runs)} s wall/CPU; "
+                f"load {load0:.1f} → {os.getloadavg()[0]:.1f}) for {res.time[-1]:.2f} s "
+                f"simulated, {res.steps} steps, {res.newton_iterations} Newton iterations "
+                f"({res.newton_iterations / max(res.steps, 1):.2f}/step, "
+                f"{cpu / max(res.newton_iterations, 1) * 1e3:.1f} ms CPU each incl. overhead), "
+                f"{res.rejected_steps} rejected steps, {res.dofs} dofs; "
                 + (f"failed by {res.failure_mode} at {res.failure_time:.3f} s"
                    if res.failed else "no failure")
             )

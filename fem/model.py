@@ -26,13 +26,24 @@ it (over a rim that still stood, or stood enough to be climbed). The first is th
 engineering limit state (the restraint is lost once the hinge forms); the second follows the
 motion further, as far as the small-strain rims remain meaningful.
 
-Which mode comes first (a statics estimate): at the rims the slider is pushed by a couple of
-rim forces F, one near each rim root, about h apart; it tips (uplift) once F·h exceeds the
-resisting couple W·b of the supported load, F ≥ W b/h. A rim root can carry at most about its
-plastic shear force t·f_y/√3 per unit depth (less with the moment), so uplift before the rims
-yield needs t ≳ √3 p b²/(h f_y) (W/depth = p·b): 40 mm at 10 MPa and 240 mm at 60 MPa for the
-baseline bearing. The assumed 40 mm rims are at the threshold for the light bearing, and in
-the runs made so far (docs/images/fem_light_*) its rims yield first.
+Which mode comes first (a statics estimate): at the rims the slider is pushed by a couple of rim
+forces F, one near each rim root, about h apart; it tips (uplift) once F·h exceeds the resisting
+couple W·b of the supported load, F ≥ W b/h. A rim root can carry at most about its plastic
+shear force t·f_y/√3 per unit depth (less with the moment), so uplift before the rims yield
+needs t ≳ √3 p b²/(h f_y) (W/depth = p·b): 40 mm at 10 MPa and 240 mm at 60 MPa for the baseline
+bearing. The assumed 40 mm rims are at the threshold for the light bearing (F_tip = W b/h = 2.51
+MN against V_p = 2.50 MN), and dynamics tips the balance towards yielding: in a sweep of strong
+pulses (``benchmarks/study_fem_uplift.py``, coarse mesh, ``failure_criterion="escape"``;
+symmetric Ricker Tp = 1, 2, 3 s at 2.0, 0.8–1.5, 0.8 g and antisymmetric Tp = 1, 2 s at 2.0, 1.0
+g, five of which fail the rigid model by uplift) the first hinge always forms at a rim force of
+1.95–2.03 MN (0.78–0.81 F_tip) while the slider still has its pendulum tilt (0.127 rad). The
+hinged rims then bend out of the way: the slider pushes past them without climbing above their
+undeformed tops (failure by yielding, 3.9–6.2 s) or stops against them (Tp = 1 s, 2 g, both
+kinds: no escape), turning to at most 0.19 rad; no run ends in uplift (after the hinge the root
+corners reach plastic strains of 4–6, far beyond small strain, so that part of the motion is
+qualitative). Short pulses (Tp = 0.5 s at 3 g, 1 s at 1 g) do not reach the rims. Uplift before
+the hinge would need 0.8 V_p ≥ F_tip, i.e. t ≳ 50 mm scaling V_p ∝ t (an estimate, not run; the
+geometry stays as assumed). docs/images/fem_light_* show the 0.4 g, 2 s case.
 
 Slider vertices (``vertex_contact=True``, off by default). By default only plate nodes are
 contact points, so the leading vertex of the tilted slider (≈ 0.125 rad at the rims) sinks into
