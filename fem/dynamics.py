@@ -23,7 +23,9 @@ damping of the pendulum mode, ξ̄ ≈ −αΩ/2 = 0.1 % of critical at Ω = ω�
 (T = 4.4 s, Δt = 5 ms), and a period error O(Ω²). Newton iterates on
 d_{n+1} with the tangent M/(βΔt²) + (1 + α) K_t from the predictor d_n + Δt v_n + Δt² a_n/2,
 which follows the slider's curved path to third order (the stiff penalty contact needs the
-iterate to start within µm of the dish; see fem.md §3.5 on gaps).
+iterate to start within µm of the dish; see fem.md §3.5 on gaps). The linear solves use
+:class:`fem.linear.TangentSolver` (elastic LU cached per step size, low-rank update for contact
+and plasticity); a line search's accepted evaluation serves as the next iteration's.
 
 Step control: a step whose Newton iteration does not converge is retried with half the step
 (down to ``min_step``); a step that opens or closes a rim contact while longer than
