@@ -3,6 +3,10 @@ soon as it arrives and skipping tasks whose results are already stored.
 
 Tasks may spawn follow-up tasks from their results (a ladder of scales steps up until the first
 failure; a bisection halves its bracket), so the same loop drives searches as well as sweeps.
+It is the one process pool of the project: the validation run, the impact sweeps
+(:func:`rigid.sweep.run_parallel`) and the critical SA of record sets
+(:func:`rigid.ida.critical_sas`) all go through :func:`run_tasks`; the last two cache inside
+their tasks and pass no store.
 """
 
 from __future__ import annotations
@@ -23,12 +27,14 @@ class Task:
     """One unit of work: ``func(**kwargs)`` must return a JSON-serialisable result.
 
     ``func`` must be importable at module level (it is sent to other processes by name).
+    ``size`` is the task's share of the progress bar (e.g. the cells of a chunk of a sweep).
     """
 
     key: str
     kind: str
     func: Callable
     kwargs: dict = field(default_factory=dict)
+    size: int = 1
 
 
 def _timed(func, kwargs):
@@ -46,17 +52,18 @@ def default_workers() -> int:
 
 
 class _Local:
-    """A spawned process pool; with one worker, tasks run in this process instead (simplest
-    to debug and profile)."""
+    """A process pool (``spawn`` by default: fork is unsafe with Numba threads); with one
+    worker, tasks run in this process instead (simplest to debug and profile)."""
 
-    def __init__(self, workers):
+    def __init__(self, workers, start_method="spawn", initializer=None):
         from concurrent.futures import ProcessPoolExecutor
 
         self.capacity = workers
         self.pool = None
         if workers > 1:
-            context = multiprocessing.get_context("spawn")  # fork is unsafe with Numba threads
-            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context)
+            context = multiprocessing.get_context(start_method)
+            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                                            initializer=initializer)
 
     def submit(self, task):
         from concurrent.futures import Future
@@ -77,8 +84,12 @@ class _Local:
         return future.result()
 
     def close(self, cancel=False):
-        if self.pool is not None:
-            self.pool.shutdown(wait=not cancel, cancel_futures=cancel)
+        if self.pool is None:
+            return
+        if cancel:  # interrupted: stop the running tasks too (an FE run takes minutes)
+            for process in list((self.pool._processes or {}).values()):
+                process.terminate()
+        self.pool.shutdown(wait=not cancel, cancel_futures=cancel)
 
 
 class _Dask:
@@ -109,21 +120,29 @@ class _Dask:
 
 def run_tasks(
     tasks: Iterable[Task],
-    store: ResultStore,
+    store: ResultStore | None,
     *,
     follow_up: Callable | None = None,
     scheduler=None,
     workers: int | None = None,
     progress: bool | None = None,
     description: str = "",
+    unit: str = "run",
+    start_method: str = "spawn",
+    initializer: Callable | None = None,
 ) -> dict:
     """Run the tasks whose results are not in ``store``; return every result by key.
+
+    On any exception (Ctrl-C included) the tasks not yet started are cancelled and the local
+    worker processes terminated; the results stored so far stay stored.
 
     Parameters
     ----------
     tasks : iterable of Task
-    store : ResultStore
-        Results are read from it and each new one written to it at once.
+    store : ResultStore or None
+        Results are read from it and each new one written to it at once. None: every task
+        runs and nothing is stored (for tasks that cache their own parts; their results need
+        not be JSON then).
     follow_up : callable, optional
         ``follow_up(task, result)`` → iterable of further tasks, called for every result
         (stored or new), e.g. the next rung of a ladder. They run before the tasks still
@@ -136,32 +155,39 @@ def run_tasks(
         Show a progress bar; default when standard error is a terminal.
     description : str
         Label of the progress bar.
+    unit : str
+        Unit of the progress bar, counted in :attr:`Task.size`.
+    start_method : str
+        :mod:`multiprocessing` start method of the local pool (not ``"fork"``: Numba).
+    initializer : callable, optional
+        Run once in each local worker process as it starts (e.g. to load compiled code).
     """
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
 
     queue = deque(tasks)
     results = {}
-    executor = _Dask(scheduler) if scheduler is not None else _Local(workers or default_workers())
+    executor = (_Dask(scheduler) if scheduler is not None
+                else _Local(workers or default_workers(), start_method, initializer))
     progress = sys.stderr.isatty() if progress is None else progress
-    bar = tqdm(total=len(queue), desc=description, unit="run", disable=not progress,
-               file=sys.stderr, dynamic_ncols=True)
+    bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
+               disable=not progress, file=sys.stderr, dynamic_ncols=True)
     in_flight = {}
 
     def finish(task, result):
         results[task.key] = result
-        bar.update()
+        bar.update(task.size)
         new = list(follow_up(task, result)) if follow_up else []
         queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
-        bar.total += len(new)
+        bar.total += sum(t.size for t in new)
 
     try:
         while queue or in_flight:
             while queue and len(in_flight) < executor.capacity:
                 task = queue.popleft()
                 if task.key in results or any(t.key == task.key for t in in_flight.values()):
-                    bar.total -= 1  # a duplicate of a task already done or running
+                    bar.total -= task.size  # a duplicate of a task already done or running
                     continue
-                stored = store.get(task.key)
+                stored = None if store is None else store.get(task.key)
                 if stored is not None:
                     finish(task, stored)
                 else:
@@ -169,7 +195,8 @@ def run_tasks(
             for future in executor.wait_one(in_flight):
                 task = in_flight.pop(future)
                 result, seconds = executor.result(future)
-                store.put(task.key, task.kind, result, seconds)
+                if store is not None:
+                    store.put(task.key, task.kind, result, seconds)
                 finish(task, result)
     except BaseException:
         executor.close(cancel=True)

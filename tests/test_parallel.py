@@ -136,3 +136,42 @@ def test_killed_run_resumes_with_the_same_results(tmp_path):
     clean = run_tasks(_rigid_tasks(8), ResultStore(tmp_path / "clean.sqlite"), workers=1,
                       progress=False)
     assert resumed == clean
+
+
+def _sleep(seconds, flag):
+    open(flag, "w").close()
+    time.sleep(seconds)
+    return {}
+
+
+INTERRUPTED_RUN = textwrap.dedent("""
+    import sys
+    sys.path.insert(0, {tests!r})
+    from test_parallel import _sleep
+    from rigid.parallel import Task, run_tasks
+    from rigid.store import ResultStore
+    tasks = [Task(str(i), "sleep", _sleep, {{"seconds": 300, "flag": sys.argv[2] + str(i)}})
+             for i in range(2)]
+    try:
+        run_tasks(tasks, ResultStore(sys.argv[1]), workers=2, progress=False)
+    except KeyboardInterrupt:
+        sys.exit(130)
+""")
+
+
+def test_ctrl_c_stops_running_tasks_of_the_pool(tmp_path):
+    """Ctrl-C (SIGINT) while two 300 s tasks run in the local pool: the command ends within
+    seconds (the workers are terminated, not awaited: an FE run takes minutes) and stores
+    nothing for them. 60 s bound: a spawned worker's start-up under load, not the tasks."""
+    script = INTERRUPTED_RUN.format(tests=os.path.dirname(__file__))
+    flag = str(tmp_path / "started")
+    proc = subprocess.Popen([sys.executable, "-c", script, str(tmp_path / "s.sqlite"), flag])
+    deadline = time.time() + 120
+    while time.time() < deadline and not all(os.path.exists(flag + str(i)) for i in range(2)):
+        time.sleep(0.1)
+    assert all(os.path.exists(flag + str(i)) for i in range(2)), "the tasks did not start"
+    start = time.time()
+    proc.send_signal(signal.SIGINT)
+    assert proc.wait(timeout=60) == 130
+    assert time.time() - start < 60
+    assert ResultStore(tmp_path / "s.sqlite").count() == 0
