@@ -9,8 +9,9 @@ supported load W over the slider's edge) and the rim root's plastic shear capaci
 f_y/√3 and V_u = t f_u/√3 (times the model depth).
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/study_fem_uplift.py [Tp:Ap_g[:a] ...]`` (``:a`` for
-an antisymmetric pulse; the default sweep takes about 5 minutes of CPU). The findings
-are summarised in ``fem/model.py`` and the README.
+an antisymmetric pulse; ``--vertices`` makes the slider's vertices contact points; the default
+sweep takes about 5 minutes of CPU). The findings are summarised in ``fem/model.py`` and the
+README.
 """
 
 from __future__ import annotations
@@ -31,14 +32,14 @@ COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 DEFAULT = ["2:0.8", "1:2.0", "0.5:3.0", "3:0.8", "1:1.0", "2:1.5", "2:1.0:a", "1:2.0:a"]
 
 
-def one(bearing, tp, ap_g, cache, kind="symmetric"):
+def one(bearing, tp, ap_g, cache, kind="symmetric", vertices=False):
     """Rigid and FE outcome of one pulse; returns a printable line."""
     _, a = ricker_record(ap_g * G, tp, kind, dt=0.005, free=3.0)
     rb = rigid.simulate(bearing, a, 0.005)
     v_imp = max((abs(i.velocity) for i in rb.impacts), default=0.0)
     c0 = time.process_time()
     res = fem.simulate(bearing, a, 0.005, mesh_options=COARSE, max_step=0.01,
-                       failure_criterion="escape", cache_dir=cache)
+                       failure_criterion="escape", vertex_contact=vertices, cache_dir=cache)
     cpu = time.process_time() - c0
     W = bearing.weight
     f_tip = W * bearing.slider_diameter / bearing.slider_height
@@ -79,7 +80,8 @@ def main() -> None:
         for case in cases:
             parts = case.split(":")
             kind = "antisymmetric" if parts[2:] == ["a"] else "symmetric"
-            print(one(bearing, float(parts[0]), float(parts[1]), cache, kind), flush=True)
+            print(one(bearing, float(parts[0]), float(parts[1]), cache, kind,
+                      "--vertices" in sys.argv), flush=True)
 
 
 if __name__ == "__main__":

@@ -35,8 +35,9 @@ bearing. The assumed 40 mm rims are at the threshold for the light bearing (F_ti
 MN against V_p = 2.50 MN), and dynamics tips the balance towards yielding: in a sweep of strong
 pulses (``benchmarks/study_fem_uplift.py``, coarse mesh, ``failure_criterion="escape"``;
 symmetric Ricker Tp = 1, 2, 3 s at 2.0, 0.8–1.5, 0.8 g and antisymmetric Tp = 1, 2 s at 2.0, 1.0
-g, five of which fail the rigid model by uplift) the first hinge always forms at a rim force of
-1.95–2.03 MN (0.78–0.81 F_tip) while the slider still has its pendulum tilt (0.127 rad). The
+g, five of which fail the rigid model by uplift) the first hinge always forms at a rim contact
+force of at most 1.95–2.03 MN (0.78–0.81 F_tip; the sum of the normal forces on the rim's nodes,
+its root corner included) while the slider still has its pendulum tilt (0.127 rad). The
 hinged rims then bend out of the way: the slider pushes past them without climbing above their
 undeformed tops (failure by yielding, 3.9–6.2 s) or stops against them (Tp = 1 s, 2 g, both
 kinds: no escape), turning to at most 0.19 rad; no run ends in uplift (after the hinge the root
@@ -49,15 +50,19 @@ Slider vertices (``vertex_contact=True``, off by default). By default only plate
 contact points, so the leading vertex of the tilted slider (≈ 0.125 rad at the rims) sinks into
 a rim between two of its nodes until the next rim node meets the slider's side: 3.1 mm on the
 coarse mesh (20 mm rim elements) at the hinge of ``tests/test_fem_failure.py``. With the
-vertices as contact points (:func:`fem.contact.vertex_contact`) that vertex is held at the
-rim face, which it meets at the very root (the slider's bottom face rests on the dish), so the
+vertices as contact points (:func:`fem.contact.vertex_contact`) that vertex is held at the rim
+face, which it meets at the very root (the slider's bottom face rests on the dish), so the
 impact load enters the rim at its base as a knife-edge line load: in the same run the corner
 element is crushed (equivalent plastic strain 1.7, beyond small strain), the rim force reaches
 4.4 MN (above the root's shear capacity, since the load bypasses the root section), no hinge
 forms (81 % of the root row yields) and the slider stops at 0.68 m. A sharp rigid corner is the
-plane-strain idealisation of a slider edge that is round or chamfered in reality; until the
-edge radius is modelled, the node-only contact (a corner that may sink by about
-tan θ × half a rim element) stays the default, and ``vertex_contact=True`` shows the bound.
+plane-strain idealisation of a slider edge that is round or chamfered in reality; until the edge
+radius is modelled, the node-only contact (a corner that may sink by millimetres, 3.1 mm here)
+stays the default, and ``vertex_contact=True`` shows the bound. With vertex contacts the
+light-bearing sweep above (``study_fem_uplift.py --vertices``) ends the same way or worse: five
+of the six strong runs stop numerically (Newton fails even at 1 µs steps) within 3 ms of the
+first hinge, once the crushed corner elements reach plastic strains of 2.5, and the sixth fails
+by yielding; the slider turns at most 0.158 rad, no uplift.
 """
 
 from __future__ import annotations
