@@ -35,6 +35,7 @@ import rigid
 from rigid.comparison import comparison_rows, ladder_rows, table2, write_csv
 from rigid.fragility import collapse_margin, fit_lognormal
 from rigid.ida import _model_source_hash, _pool_context, critical_sas
+from rigid.parallel import Task, run_tasks
 from rigid.predict import predict_critical_sa, pulse_region
 
 G = rigid.G
@@ -75,14 +76,16 @@ def _with_criterion(pred, c):
 
 
 def predictions(motions, bearings, criteria, search, processes, cache_dir):
-    from concurrent.futures import ProcessPoolExecutor
-
-    from tqdm.auto import tqdm
-
-    with ProcessPoolExecutor(processes, mp_context=_pool_context()) as pool:
-        futs = [pool.submit(_predict_record, m, bearings, criteria, search, cache_dir)
-                for m in motions]
-        return [f.result() for f in tqdm(futs, desc="predictions", unit="record")]
+    """:func:`_predict_record` of every record, in record order, through
+    :func:`rigid.parallel.run_tasks` (forkserver, else spawn, as :func:`rigid.critical_sas`;
+    ``processes=1`` runs them in this process)."""
+    tasks = [Task(str(i), "predictions", _predict_record,
+                  {"motion": m, "bearings": bearings, "criteria": criteria, "search": search,
+                   "cache_dir": cache_dir}) for i, m in enumerate(motions)]
+    results = run_tasks(tasks, None, workers=max(1, processes), progress=True,
+                        description="predictions", unit="record",
+                        start_method=_pool_context().get_start_method())
+    return [results[t.key] for t in tasks]
 
 
 def main() -> None:

@@ -452,12 +452,13 @@ def _fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
 # --------------------------------------------------------------------------- record sets
 
 
-def _worker(args):
-    bearing, motion, kwargs = args
+def _record_task(bearing, motion, kwargs):
     return critical_sa(bearing, motion, **kwargs)
 
 
 def _pool_context():
+    """The multiprocessing context of :func:`critical_sas`'s pool (also used by
+    ``benchmarks/study_critical_sa.py``)."""
     import multiprocessing as mp
 
     # numba-compiled code and fork can deadlock (threads/locks copied); prefer forkserver
@@ -481,8 +482,10 @@ def critical_sas(
     bearing : DFPBearing
     motions : sequence of GroundMotion
     processes : int, optional
-        Worker processes (forkserver, else spawn context); default ``os.cpu_count()``;
-        1 runs in this process.
+        Worker processes of :func:`rigid.parallel.run_tasks` (forkserver, else spawn
+        context); default ``os.cpu_count()``; 1 (or a single record) runs in this process.
+        On any exception (Ctrl-C included) the records not started are cancelled and the
+        workers terminated; finished rungs are already in the cache.
     progress : bool
         Show a tqdm progress bar over records (stderr).
     cache : None, True, str or Path
@@ -495,34 +498,16 @@ def critical_sas(
     list of CriticalSA
         In the order of ``motions``.
     """
+    from .parallel import Task, run_tasks
+
     motions = list(motions)
     kwargs = {**kwargs, "cache": cache}
     processes = (os.cpu_count() or 1) if processes is None else int(processes)
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(motions), desc=f"critical SA ({bearing.pressure / 1e6:g} MPa)",
-                   unit="record")
-    results: list = [None] * len(motions)
-    try:
-        if processes <= 1 or len(motions) <= 1:
-            for i, m in enumerate(motions):
-                results[i] = critical_sa(bearing, m, **kwargs)
-                if bar is not None:
-                    bar.update()
-        else:
-            from concurrent.futures import ProcessPoolExecutor, as_completed
-
-            with ProcessPoolExecutor(min(processes, len(motions)),
-                                     mp_context=_pool_context()) as pool:
-                futures = {pool.submit(_worker, (bearing, m, kwargs)): i
-                           for i, m in enumerate(motions)}
-                for fut in as_completed(futures):
-                    results[futures[fut]] = fut.result()
-                    if bar is not None:
-                        bar.update()
-    finally:
-        if bar is not None:
-            bar.close()
-    return results
+    tasks = [Task(str(i), "critical-sa", _record_task,
+                  {"bearing": bearing, "motion": m, "kwargs": kwargs})
+             for i, m in enumerate(motions)]
+    results = run_tasks(tasks, None, workers=1 if len(motions) <= 1 else max(1, processes),
+                        progress=bool(progress), unit="record",
+                        description=f"critical SA ({bearing.pressure / 1e6:g} MPa)",
+                        start_method=_pool_context().get_start_method())
+    return [results[t.key] for t in tasks]

@@ -3,7 +3,7 @@ soon as it arrives and skipping tasks whose results are already stored.
 
 Tasks may spawn follow-up tasks from their results (a ladder of scales steps up until the first
 failure; a bisection halves its bracket), so the same loop drives searches as well as sweeps.
-It is the one process pool of the project: the validation run, the impact sweeps
+It is the library's one process pool: the validation run, the impact sweeps
 (:func:`rigid.sweep.run_parallel`) and the critical SA of record sets
 (:func:`rigid.ida.critical_sas`) all go through :func:`run_tasks`; the last two cache inside
 their tasks and pass no store.

@@ -16,11 +16,13 @@ spectra of :mod:`rigid.impact` are built from cells. Three things make sweeps pr
   interrupted and rerun recomputes only the missing cells. The file is a
   :class:`rigid.store.ResultStore` (SQLite in WAL mode), which lets the worker processes write
   concurrently; the file is safe to delete at any time.
-* **Processes.** Cells run in a :class:`concurrent.futures.ProcessPoolExecutor` with the
-  ``spawn`` context (Numba and ``fork`` do not mix well); each worker loads the compiled
-  kernel from Numba's on-disk cache once. As with any spawn pool, a script that runs a
-  sweep with more than one worker needs the ``if __name__ == "__main__":`` guard. On Ctrl-C
-  (or any error) the pending tasks are cancelled and the workers terminated.
+* **Processes.** Cells run in chunks through :func:`rigid.parallel.run_tasks`: a
+  :class:`concurrent.futures.ProcessPoolExecutor` with the ``spawn`` context (Numba and
+  ``fork`` do not mix well), without its result store (the workers write each cell to the
+  cache themselves); each worker loads the compiled kernel from Numba's on-disk cache once,
+  as it starts. As with any spawn pool, a script that runs a sweep with more than one worker
+  needs the ``if __name__ == "__main__":`` guard. On Ctrl-C (or any error) the pending
+  tasks are cancelled and the workers terminated.
 
 The default cache file is ``$DFP_CACHE_DIR/impact-cells.sqlite``, else
 ``~/.cache/dfp-failure/impact-cells.sqlite``.
@@ -33,7 +35,6 @@ import hashlib
 import json
 import math
 import os
-import sys
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,6 +43,7 @@ import numpy as np
 
 from .bearing import DFPBearing
 from .model import DEFAULT_MAX_STEP, RIM_NAMES, NumericalInstabilityError, simulate
+from .parallel import Task, default_workers, run_tasks
 from .pulses import KINDS, ricker
 from .store import ResultStore
 
@@ -296,17 +298,8 @@ def _cells_task(bearing, settings, cache_path, cells):
     return out, ev.computed, ev.reused
 
 
-def progress_bar(total: int, progress: bool | None, desc: str, initial: int = 0):
-    """A tqdm bar (imported lazily); shown by default only on a terminal."""
-    from tqdm.auto import tqdm
-
-    disable = (not sys.stderr.isatty()) if progress is None else (not progress)
-    return tqdm(total=total, initial=initial, disable=disable, desc=desc, unit="cell",
-                dynamic_ncols=True)
-
-
-def default_workers() -> int:
-    return max(1, os.cpu_count() or 1)
+def _call(task, job):
+    return task(*job)
 
 
 def run_parallel(
@@ -318,45 +311,22 @@ def run_parallel(
     progress: bool | None,
     desc: str,
 ):
-    """Run ``task(*job)`` for each job, in a spawn process pool unless ``workers == 1``.
+    """Run ``task(*job)`` for each job through :func:`rigid.parallel.run_tasks` (a spawn
+    process pool, default :func:`rigid.parallel.default_workers`), in this process when
+    ``workers == 1`` or there is only one job.
 
-    ``sizes`` are the progress units of each job. Returns the results in job order. On any
-    exception (Ctrl-C included) pending jobs are cancelled; finished cells are already cached.
+    ``sizes`` are the progress units (cells) of each job; the bar is shown by default only on
+    a terminal. Returns the results in job order. On any exception (Ctrl-C included) pending
+    jobs are cancelled and the workers terminated; finished cells are already cached.
     """
     workers = default_workers() if workers is None else int(workers)
     if workers < 1:
         raise ValueError(f"workers must be ≥ 1, got {workers!r}")
-    results: list = [None] * len(jobs)
-    with progress_bar(sum(sizes), progress, desc) as bar:
-        if workers == 1 or len(jobs) <= 1:
-            for i, job in enumerate(jobs):
-                results[i] = task(*job)
-                bar.update(sizes[i])
-            return results
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        ex = ProcessPoolExecutor(
-            max_workers=min(workers, len(jobs)),
-            mp_context=multiprocessing.get_context("spawn"),
-            initializer=_warm_up,
-        )
-        try:
-            futures = {ex.submit(task, *job): i for i, job in enumerate(jobs)}
-            for f in as_completed(futures):
-                i = futures[f]
-                results[i] = f.result()
-                bar.update(sizes[i])
-        except BaseException:
-            # Ctrl-C reaches the workers too on a terminal, but not when only this process is
-            # signalled; stop them so that exit does not wait for their running tasks (every
-            # finished cell is already in the cache).
-            for proc in list((getattr(ex, "_processes", None) or {}).values()):
-                proc.terminate()
-            ex.shutdown(wait=False, cancel_futures=True)
-            raise
-        ex.shutdown(wait=True)
-    return results
+    tasks = [Task(str(i), "sweep-job", _call, {"task": task, "job": tuple(job)}, size=size)
+             for i, (job, size) in enumerate(zip(jobs, sizes, strict=True))]
+    results = run_tasks(tasks, None, workers=1 if len(tasks) <= 1 else workers,
+                        progress=progress, description=desc, unit="cell", initializer=_warm_up)
+    return [results[t.key] for t in tasks]
 
 
 def run_cells(
