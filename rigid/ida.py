@@ -335,8 +335,8 @@ def critical_sa(
         Longest time simulated after the record ends (ground at rest): a bearing still
         swinging can hit a rim or escape then. Each run stops earlier once no rim can be
         reached (``stop_when_quiet``), so this costs time only when it matters.
-    cache : None, True, str or Path
-        Directory of the rung cache (see the module docstring); None disables it.
+    cache : None, bool, str or Path
+        Directory of the rung cache (see the module docstring); None or False disables it.
     max_step, impact_merge_time, coarse_factor
         Passed to :func:`rigid.simulate` (which runs with ``stop_when_quiet=True``,
         ``stop_at_failure=True`` and ``on_instability="refine"``, for the record plus ``free``).
@@ -366,7 +366,7 @@ def critical_sa(
         from .model import DEFAULT_MAX_STEP
 
         sim["max_step"] = DEFAULT_MAX_STEP
-    cache_dir = default_cache_dir() if cache is True else cache
+    cache_dir = default_cache_dir() if cache is True else (None if cache is False else cache)
     store = _Store(cache_dir, _ladder_key(bearing, acc, dt, start, step, period, damping, sim),
                    name)
 

@@ -95,6 +95,15 @@ def test_cache_reuse_and_resume(tmp_path, monkeypatch):
     assert len(calls) == len(whole.rungs) + 1
 
 
+def test_cache_false_disables_the_cache(tmp_path, monkeypatch):
+    """``cache=False`` behaves as None: the ladder runs and nothing is written to the default
+    cache directory (it used to be taken for a path and raise)."""
+    monkeypatch.setenv("DFP_FAILURE_CACHE", str(tmp_path / "default"))
+    res = critical_sa(LIGHT, _record(), STEP, dt=DT, cache=False, stop=0.1 * G)
+    assert len(res.rungs) == 2
+    assert not (tmp_path / "default").exists()
+
+
 def _rung(j, failed):
     return Rung(j, (j + 1) * STEP, 1.0, failed, False, None, 1, 1.0, 0.0)
 
