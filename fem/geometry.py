@@ -172,11 +172,13 @@ def _generate(geo_file: Path, parameters: dict[str, float], target: Path) -> Non
 
 
 def _load(path: Path):
-    """Read the ``.msh`` through scikit-fem's meshio loader, dropping the loader's spurious
-    ``gmsh:bounding_entities`` subdomain (fem.md §1.3)."""
-    from skfem import MeshQuad
+    """Read the ``.msh`` through meshio (format named: guessing it tries another ``.msh``
+    reader first, which prints a blank line on failure) and scikit-fem's meshio loader,
+    dropping the loader's spurious ``gmsh:bounding_entities`` subdomain (fem.md §1.3)."""
+    import meshio
+    from skfem.io.meshio import from_meshio
 
-    mesh = MeshQuad.load(str(path))
+    mesh = from_meshio(meshio.read(str(path), file_format="gmsh"))
     subdomains = {k: v for k, v in mesh.subdomains.items() if k in SUBDOMAINS}
     return dataclasses.replace(mesh, _subdomains=subdomains)
 
