@@ -102,13 +102,23 @@ def test_local_pool_and_dask_give_identical_results(tmp_path):
     assert any(outcomes) and not all(outcomes)
 
 
+def _paused_rung(pause, **kwargs):
+    """A rung followed by a pause [s]: the killed run below must still be running when the
+    test has seen three results stored (a rung alone takes only tens of ms)."""
+    result = _run_rung(**kwargs)
+    time.sleep(pause)
+    return result
+
+
 RESUMABLE_RUN = textwrap.dedent("""
-    import sys
+    import dataclasses, sys
     sys.path.insert(0, {tests!r})
-    from test_parallel import _rigid_tasks
+    from test_parallel import _paused_rung, _rigid_tasks
     from rigid.parallel import run_tasks
     from rigid.store import ResultStore
-    run_tasks(_rigid_tasks(8), ResultStore(sys.argv[1]), workers=1, progress=False)
+    tasks = [dataclasses.replace(t, func=_paused_rung, kwargs={{**t.kwargs, "pause": 1.0}})
+             for t in _rigid_tasks(8)]
+    run_tasks(tasks, ResultStore(sys.argv[1]), workers=1, progress=False)
 """)
 
 
