@@ -46,8 +46,8 @@ qualitative). Short pulses (Tp = 0.5 s at 3 g, 1 s at 1 g) do not reach the rims
 says uplift before the hinge would need 0.8 V_p ≥ F_tip, i.e. t ≳ 50 mm, but thicker rims do not
 tip the slider either: with 70 mm rims (a variant run, not the assumed geometry; symmetric
 Tp = 2 s at 0.8 g and antisymmetric Tp = 1 s at 2 g) the first hinge forms at 3.6–3.9 MN, the
-rim force peaks at 6.8–7.1 MN = 2.7–2.8 F_tip without tipping (|θ| ≤ 0.16 rad, the slider rises
-54–56 mm and stays), and neither run fails, while the rigid model, with its unyielding rims,
+rim force peaks at 6.8–7.1 MN = 2.7–2.8 F_tip without tipping (|θ| ≤ 0.16 rad, largest slider rise
+54–56 mm), and neither run fails, while the rigid model, with its unyielding rims,
 fails the second by uplift: the impact force is brief, and the deformable plates take up the
 impact that throws the rigid model's slider. docs/images/fem_light_* show the 0.4 g, 2 s case.
 
