@@ -42,14 +42,15 @@ hinged rims then bend out of the way: the slider pushes past them without climbi
 undeformed tops (failure by yielding, 3.9–6.2 s) or stops against them (Tp = 1 s, 2 g, both
 kinds: no escape), turning to at most 0.19 rad; no run ends in uplift (after the hinge the root
 corners reach plastic strains of 4–6, far beyond small strain, so that part of the motion is
-qualitative). Short pulses (Tp = 0.5 s at 3 g, 1 s at 1 g) do not reach the rims. The static estimate
-says uplift before the hinge would need 0.8 V_p ≥ F_tip, i.e. t ≳ 50 mm, but thicker rims do not
-tip the slider either: with 70 mm rims (a variant run, not the assumed geometry; symmetric
-Tp = 2 s at 0.8 g and antisymmetric Tp = 1 s at 2 g) the first hinge forms at 3.6–3.9 MN, the
-rim force peaks at 6.8–7.1 MN = 2.7–2.8 F_tip without tipping (|θ| ≤ 0.16 rad, largest slider rise
-54–56 mm), and neither run fails, while the rigid model, with its unyielding rims,
-fails the second by uplift: the impact force is brief, and the deformable plates take up the
-impact that throws the rigid model's slider. docs/images/fem_light_* show the 0.4 g, 2 s case.
+qualitative). Short pulses (Tp = 0.5 s at 3 g, 1 s at 1 g) do not reach the rims. The static
+estimate says uplift before the hinge would need 0.8 V_p ≥ F_tip, i.e. t ≳ 50 mm, but thicker
+rims do not tip the slider either: with 70 mm rims (a variant run, not the assumed geometry;
+symmetric Tp = 2 s at 0.8 g and antisymmetric Tp = 1 s at 2 g) the first hinge forms at
+3.6–3.9 MN, the rim force peaks at 6.8–7.1 MN = 2.7–2.8 F_tip without tipping (|θ| ≤ 0.16 rad,
+largest slider rise 54–56 mm), and neither run fails, while the rigid model, with its
+unyielding rims, fails the second by uplift: the impact force is brief, and the deformable
+plates take up the impact that throws the rigid model's slider. docs/images/fem_light_* show
+the 0.4 g, 2 s case.
 
 Slider vertices (``vertex_contact=True``, off by default). By default only plate nodes are
 contact points, so the leading vertex of the tilted slider (≈ 0.125 rad at the rims) sinks into
