@@ -262,18 +262,13 @@ def simulate(
     -------
     FEMResult
     """
-    from rigid.model import validate_acceleration
+    from rigid.model import check_model_input
 
     from .dfp import build_system
     from .dynamics import HHTParameters, Integrator, StepControl
 
-    if not isinstance(bearing, DFPBearing):
-        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    a = validate_acceleration(acceleration, dt)
+    a, duration = check_model_input(bearing, acceleration, dt, duration)
     record_end = (a.size - 1) * dt
-    duration = record_end if duration is None else float(duration)
-    if not (math.isfinite(duration) and duration > 0):
-        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
     if failure_criterion not in ("hinge", "escape"):
         raise ValueError(
             f"failure_criterion must be 'hinge' or 'escape', got {failure_criterion!r}"

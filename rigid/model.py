@@ -286,10 +286,13 @@ def reach_energy(bearing: DFPBearing) -> float:
     return bearing.supported_mass * G * arm * (1 - math.cos(bearing.capacity_tilt))
 
 
-def validate_acceleration(acceleration, dt) -> np.ndarray:
-    """A ground acceleration [m/s²] and its sampling interval dt [s] checked (1-D, at least
-    two finite samples, dt > 0) and returned as a contiguous float array; ValueError names
-    what is wrong. Shared by the rigid and the FE model."""
+def check_model_input(bearing, acceleration, dt, duration) -> tuple[np.ndarray, float]:
+    """The inputs shared by the rigid and the FE model checked: ``bearing`` a DFPBearing
+    (TypeError), the ground acceleration [m/s²] 1-D with at least two finite samples, dt [s]
+    and ``duration`` [s] (None: the record's length) positive (ValueError naming what is
+    wrong). Returns the acceleration as a contiguous float array and the duration."""
+    if not isinstance(bearing, DFPBearing):
+        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
     a = np.asarray(acceleration, dtype=float)
     if a.ndim != 1:
         raise ValueError(f"acceleration must be one-dimensional, got shape {a.shape}")
@@ -300,7 +303,10 @@ def validate_acceleration(acceleration, dt) -> np.ndarray:
         raise ValueError(f"acceleration has a non-finite value at sample {bad}")
     if not (isinstance(dt, (int, float, np.floating)) and math.isfinite(dt) and dt > 0):
         raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
-    return np.ascontiguousarray(a)
+    duration = (a.size - 1) * dt if duration is None else float(duration)
+    if not (math.isfinite(duration) and duration > 0):
+        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
+    return np.ascontiguousarray(a), duration
 
 
 def simulate(
@@ -362,9 +368,7 @@ def simulate(
     -------
     SimulationResult
     """
-    if not isinstance(bearing, DFPBearing):
-        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    a = validate_acceleration(acceleration, dt)
+    a, duration = check_model_input(bearing, acceleration, dt, duration)
     if not (math.isfinite(max_step) and max_step > 0):
         raise ValueError(f"max_step must be a positive number of seconds, got {max_step!r}")
     if int(record_every) != record_every or record_every < 1:
@@ -379,10 +383,6 @@ def simulate(
         raise ValueError(f"max_impacts must be a positive integer, got {max_impacts!r}")
     if impact_merge_time < 0:
         raise ValueError(f"impact_merge_time must be ≥ 0 s, got {impact_merge_time!r}")
-    record_duration = (a.size - 1) * dt
-    duration = record_duration if duration is None else float(duration)
-    if not (math.isfinite(duration) and duration > 0):
-        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
 
     p = kernel_parameters(bearing)
     p[K.P_MERGE] = impact_merge_time
