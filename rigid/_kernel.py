@@ -69,9 +69,10 @@ N_SLOTS = 12
 #: modified-mass factor of the coarse steps, M + β·h²·K: stable for a true contact stiffness
 #: up to 4β times the one in K (Hertz stiffens as √δ, and K is taken at the step's start)
 BETA = 1.0
-# work vector of the force routine: energies and forces, then the damping matrix C
+# work vector of the force routine: energies, forces and flags, then the damping matrix C
 A_EEL, A_CSUM, A_PFRIC, A_BFX, A_KSUM, A_C = 0, 1, 2, 3, 4, 5
-#: (row, column) of each stored entry of the upper triangle of C
+#: (row, column) of each stored entry of the upper triangle of C (and of K); the unrolled
+#: solve of :func:`_kick` follows this order
 C_INDEX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2), (0, 3), (0, 4), (1, 3), (1, 4),
            (2, 3), (2, 4), (3, 3), (3, 4), (4, 4))
 A_K = A_C + 15  # then the contact stiffness matrix K (same layout), far from the rims
@@ -337,7 +338,7 @@ def _failure(p, q, vert):
 
 
 @njit(cache=True)
-def _kick(p, v, gen, ag, acc, hk, work):
+def _kick(p, v, gen, ag, acc, hk):
     """Half kick of velocity Verlet over hk, with the contact dampers backward-Euler:
     (M + hk·C) v⁺ = M v + hk·F. Implicit damping keeps the step free of the damper's limit
     (c/m_s reaches 1e5–1e6 1/s when the supported mass sets c).
@@ -504,7 +505,6 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     rimf = np.zeros(N_RIMS)
     sep = np.zeros(2)
     vert = np.zeros((4, 3))
-    work = np.zeros((5, 6))
     in_contact = np.zeros(N_RIMS, dtype=np.bool_)
     last_contact = np.full(N_RIMS, -1e9)
     open_event = np.full(N_RIMS, -1)
@@ -585,7 +585,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
         elif k_in == n_in - 1 and frac == 0.0:
             ag_new = ag_in[k_in]
         # kick – drift
-        e_imp += _kick(p, v, gen, ag_old, acc, 0.5 * hs, work)
+        e_imp += _kick(p, v, gen, ag_old, acc, 0.5 * hs)
         for i in range(5):
             q[i] += hs * v[i]
         # input work of the inertial loads over the step, half-step velocities
@@ -594,7 +594,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
         e_fric += acc[A_PFRIC] * hs
         shear = acc[A_BFX]
         # kick
-        e_imp += _kick(p, v, gen, ag_new, acc, 0.5 * hs, work)
+        e_imp += _kick(p, v, gen, ag_new, acc, 0.5 * hs)
         ag_old = ag_new
         step += m
         taken += 1
