@@ -247,6 +247,16 @@ def check_ladder(bearing, search, searches, step, coarse, start, stop) -> float:
     return start
 
 
+def record_ladder(acc, dt, period, damping, name, start, step, stop) -> tuple[float, int]:
+    """SA(T) of the unscaled record [m/s²] and the number of rungs start + j·step ≤ stop (to
+    1e-9 of a step) of a ladder that scales it; ValueError if the record has no SA at T.
+    Shared by the actual and the predicted ladder."""
+    record_sa = float(pseudo_acceleration(acc, dt, [period], damping)[0])
+    if not record_sa > 0:
+        raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
+    return record_sa, math.floor((stop - start) / step + 1e-9) + 1
+
+
 def _as_record(motion, dt):
     if dt is None:
         if not hasattr(motion, "acceleration"):
@@ -353,10 +363,7 @@ def critical_sa(
     if acc.ndim != 1 or acc.size < 2 or not np.all(np.isfinite(acc)):
         raise ValueError("the record must be a finite 1-D acceleration with at least 2 samples")
 
-    record_sa = float(pseudo_acceleration(acc, dt, [period], damping)[0])
-    if not record_sa > 0:
-        raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
-    n_rungs = math.floor((stop - start) / step + 1e-9) + 1
+    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
 
     if not (math.isfinite(free) and free >= 0):
         raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")

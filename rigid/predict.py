@@ -18,13 +18,11 @@ Ap is dropped: the bearing is symmetric, so a flipped pulse gives the mirrored r
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .bearing import DFPBearing, G
-from .spectra import pseudo_acceleration
 
 __all__ = ["PredictedSA", "PredictionRung", "predict_critical_sa", "pulse_region"]
 
@@ -230,7 +228,7 @@ def predict_critical_sa(
     -------
     PredictedSA
     """
-    from .ida import _as_record, check_ladder
+    from .ida import _as_record, check_ladder, record_ladder
 
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     period = bearing.design_period if period is None else float(period)
@@ -242,11 +240,8 @@ def predict_critical_sa(
         used = criterion
     else:
         used = None
-    record_sa = float(pseudo_acceleration(acc, dt, [period], damping)[0])
-    if not record_sa > 0:
-        raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
+    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
     where = _resolve_region(region, bearing, pulse.kind)
-    n_rungs = math.floor((stop - start) / step + 1e-9) + 1
     ap0 = abs(float(pulse.amplitude))
     done: dict[int, PredictionRung] = {}
 

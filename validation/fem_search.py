@@ -236,12 +236,11 @@ def rigid_critical_sa_trimmed(bearing: DFPBearing, motion, step: float = 0.01 * 
     dict
         ``sa`` [m/s²] or None, ``rungs`` {rung index: :func:`rigid_outcome` dict}.
     """
-    from rigid import pseudo_acceleration
-    from rigid.ida import _fast_search
+    from rigid.ida import _fast_search, record_ladder
 
     acc = np.asarray(motion.acceleration, dtype=float)
-    record_sa = float(pseudo_acceleration(acc, motion.dt, [bearing.design_period])[0])
-    n_rungs = math.floor((stop - step) / step + 1e-9) + 1
+    record_sa, n_rungs = record_ladder(acc, motion.dt, bearing.design_period, 0.05,
+                                       motion.name, step, step, stop)
     done, outcomes = {}, {}
 
     def rung(j):
