@@ -421,18 +421,24 @@ def critical_sa(
     )
 
 
-def _fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
-    """Index of the lowest failing rung found by the coarse-then-fine search, or None."""
-    ends = []  # coarse rungs run, up to the first coarse failure
-    first = None
+def coarse_scan(hit, n_rungs: int, coarse: int) -> tuple[list, int | None]:
+    """Every ``coarse``-th rung (and the last) up to the first j with ``hit(j)``: the rungs
+    run and that first hit (None if none). The first stage of the fast searches."""
+    ends = []
     for j in range(coarse - 1, n_rungs + coarse - 1, coarse):
         j = min(j, n_rungs - 1)
         ends.append(j)
-        if rung(j).failed:
-            first = j
-            break
+        if hit(j):
+            return ends, j
         if j == n_rungs - 1:
             break
+    return ends, None
+
+
+def _fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
+    """Index of the lowest failing rung found by the coarse-then-fine search, or None."""
+    # coarse rungs run, up to the first coarse failure
+    ends, first = coarse_scan(lambda j: rung(j).failed, n_rungs, coarse)
     if first is None:
         return None
 

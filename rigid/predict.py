@@ -228,7 +228,7 @@ def predict_critical_sa(
     -------
     PredictedSA
     """
-    from .ida import _as_record, check_ladder, record_ladder
+    from .ida import _as_record, check_ladder, coarse_scan, record_ladder
 
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     period = bearing.design_period if period is None else float(period)
@@ -263,15 +263,7 @@ def predict_critical_sa(
                 lo, hi = (lo, mid) if rung(mid).region == 2 else (mid, hi)
             first = hi
     else:
-        ends = []
-        for j in range(coarse - 1, n_rungs + coarse - 1, coarse):
-            j = min(j, n_rungs - 1)
-            ends.append(j)
-            if rung(j).region == 2:
-                first = j
-                break
-            if j == n_rungs - 1:
-                break
+        ends, first = coarse_scan(lambda j: rung(j).region == 2, n_rungs, coarse)
         if first is not None:
             for lo, hi in zip([-1, *ends[:-1]], ends, strict=True):
                 if lo >= first:
