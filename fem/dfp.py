@@ -83,6 +83,7 @@ def build_system(
     penalty_factor: float = 10.0,
     tangential_ratio: float = 0.1,
     vertex_contact: bool = False,
+    plasticity: bool = True,
     cache_dir=None,
 ) -> DFPSystem:
     """Assemble the plane-strain DFP model of a bearing.
@@ -100,6 +101,10 @@ def build_system(
     vertex_contact : bool
         Also make the slider's four vertices contact points against the rims' inner faces and
         tops (:func:`fem.contact.vertex_contact`). Off by default: see :mod:`fem.model`.
+    plasticity : bool
+        The bearing's elastoplastic steel (default); False keeps it linear elastic
+        (:meth:`fem.material.Material.elastic`), the FE counterpart of the rigid model's rims
+        that cannot yield.
     cache_dir : path-like, optional
         Mesh cache.
 
@@ -132,8 +137,9 @@ def build_system(
     h_c = float(np.mean(np.linalg.norm(m.p[:, dish[1]] - m.p[:, dish[0]], axis=0)))
     eps_n = penalty_factor * bearing.youngs_modulus / h_c
     shape = C.SliderShape.from_bearing(bearing)
+    steel = Material.from_bearing(bearing)
     system = CoupledSystem(
-        fe, Material.from_bearing(bearing), shape, nodes,
+        fe, steel if plasticity else steel.elastic(), shape, nodes,
         pose=[0.0, bearing.slider_height / 2, 0.0],
         penalty=eps_n, tangential_penalty=tangential_ratio * eps_n,
         vertex_depth=bearing.rim_thickness / 2,

@@ -100,6 +100,11 @@ class StepControl:
         Newton converges when ‖residual‖ ≤ rtol·‖g‖ (g the weights).
     max_iter : int
         Newton iterations before a cutback.
+    energy_tol : float [J/m]
+        Largest change of the energy-balance residual in one step: a step that exceeds it is
+        redone at half the size, down to ``impact_step / 8`` (below that it is accepted).
+        Penalty contacts that open and close within one step (a light slider rattling between
+        airborne plates) make or destroy energy; this catches them. Default: no limit.
     """
 
     max_step: float = 5e-3
@@ -107,6 +112,7 @@ class StepControl:
     min_step: float = 1e-6
     rtol: float = 1e-6
     max_iter: int = 12
+    energy_tol: float = math.inf
 
 
 @dataclass
@@ -281,7 +287,7 @@ class Integrator:
         acc = (f_ext - f_int) / self.M
         energy = Energy()
         w_ext = w_mat = w_fric = 0.0
-        ekin = 0.0
+        ekin = residual = 0.0
         strain0 = self._strain_energy(ev)
         cont0 = ev.contact.normal_energy
         times = [t_start]
@@ -314,15 +320,24 @@ class Integrator:
                 continue
             dd = out["d"] - d
             f_mat_new = self.red.reduce(out["evaluation"].material_force)
-            w_ext += 0.5 * float((f_ext + out["f_ext"]) @ dd)
-            w_mat += 0.5 * float((f_mat + f_mat_new) @ dd)
             con = out["evaluation"].contact
-            w_fric += float(-(con.tangential * con.slip).sum())
+            w_ext_new = w_ext + 0.5 * float((f_ext + out["f_ext"]) @ dd)
+            w_mat_new = w_mat + 0.5 * float((f_mat + f_mat_new) @ dd)
+            w_fric_new = w_fric + float(-(con.tangential * con.slip).sum())
+            ekin_new = 0.5 * float(self.M @ (out["v"] * out["v"]))
+            # residual = input − kinetic − (strain + plastic) − contact − friction
+            residual_new = (w_ext_new - ekin_new - w_mat_new - (con.normal_energy - cont0)
+                            - w_fric_new)
+            if abs(residual_new - residual) > ctl.energy_tol and h > ctl.impact_step / 8:
+                self.rejected += 1
+                h *= 0.5
+                continue
+            w_ext, w_mat, w_fric, ekin, residual = (w_ext_new, w_mat_new, w_fric_new,
+                                                    ekin_new, residual_new)
             d, v, acc, state = out["d"], out["v"], out["acc"], out["state"]
             f_int, f_ext, f_mat, ev = out["f_int"], out["f_ext"], f_mat_new, out["evaluation"]
             t += h
             self.steps += 1
-            ekin = 0.5 * float(self.M @ (v * v))
             times.append(t)
             self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
             if self.rim_mask is not None:

@@ -23,7 +23,7 @@ hardening branch first and, if its root lies beyond p_u, on the flat branch.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
@@ -51,7 +51,8 @@ class Material:
     poisson_ratio : float [-]
         Poisson's ratio ν, 0 ≤ ν < 0.5.
     yield_stress : float [Pa]
-        Initial uniaxial yield stress f_y.
+        Initial uniaxial yield stress f_y; ``math.inf`` for a linear elastic material
+        (:meth:`elastic`).
     ultimate_stress : float [Pa]
         Flow stress at which hardening stops, f_u ≥ f_y; ``math.inf`` for unbounded
         linear hardening.
@@ -67,10 +68,13 @@ class Material:
     hardening_ratio: float
 
     def __post_init__(self):
-        for name in ("youngs_modulus", "yield_stress"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"Material.{name} must be a positive finite number, got {value!r}")
+        if not (math.isfinite(self.youngs_modulus) and self.youngs_modulus > 0):
+            raise ValueError(
+                f"Material.youngs_modulus must be a positive finite number, "
+                f"got {self.youngs_modulus!r}"
+            )
+        if not self.yield_stress > 0:  # inf allowed: elastic
+            raise ValueError(f"Material.yield_stress must be positive, got {self.yield_stress!r}")
         if not 0 <= self.poisson_ratio < 0.5:
             raise ValueError(
                 f"Material.poisson_ratio must lie in [0, 0.5), got {self.poisson_ratio!r}"
@@ -102,6 +106,11 @@ class Material:
             ultimate_stress=bearing.ultimate_stress,
             hardening_ratio=bearing.hardening_ratio,
         )
+
+    def elastic(self) -> Material:
+        """The same steel without yield (f_y = f_u = ∞): the return map never leaves the
+        elastic branch."""
+        return replace(self, yield_stress=math.inf, ultimate_stress=math.inf)
 
     @property
     def shear_modulus(self) -> float:

@@ -220,6 +220,8 @@ def simulate(
     snapshot_every: int = 0,
     failure_criterion: str = "hinge",
     vertex_contact: bool = False,
+    plasticity: bool = True,
+    energy_tolerance: float = 1e-3,
     cache_dir=None,
 ) -> FEMResult:
     """Run the plane-strain FE model of the DFP bearing on a horizontal ground acceleration.
@@ -255,6 +257,14 @@ def simulate(
         the module docstring; hinge times are still recorded).
     vertex_contact : bool
         Make the slider's vertices contact points against the rims (module docstring).
+    plasticity : bool
+        False keeps the steel linear elastic: rims that cannot yield, as in the rigid model
+        (module docstring, "Uplift").
+    energy_tolerance : float [-]
+        Largest change of the energy-balance residual in one step, as a fraction of W·h_r
+        (the work of lifting the supported weight W over the rim height h_r); a step that
+        exceeds it is redone at half the size, down to impact_step/8
+        (:class:`fem.dynamics.StepControl`). ``math.inf``: no energy control.
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -283,7 +293,7 @@ def simulate(
     wall0 = _time.perf_counter()
     model = build_system(
         bearing, mesh_options=mesh_options, penalty_factor=penalty_factor,
-        vertex_contact=vertex_contact, cache_dir=cache_dir,
+        vertex_contact=vertex_contact, plasticity=plasticity, cache_dir=cache_dir,
     )
     sysm, red, mesh = model.system, model.reduction, model.mesh
     depth = model.depth
@@ -359,7 +369,11 @@ def simulate(
 
     integ = Integrator(
         model, ground, hht=HHTParameters(alpha),
-        control=StepControl(max_step=max_step, impact_step=impact_step), rim_mask=rim_mask,
+        control=StepControl(
+            max_step=max_step, impact_step=impact_step,
+            energy_tol=energy_tolerance * bearing.weight / depth * bearing.rim_height,
+        ),
+        rim_mask=rim_mask,
     )
     out = integ.run(duration, observer)
     state = out["state"]
