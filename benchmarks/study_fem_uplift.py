@@ -9,8 +9,10 @@ supported load W over the slider's edge) and the rim root's plastic shear capaci
 f_y/√3 and V_u = t f_u/√3 (times the model depth).
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/study_fem_uplift.py [Tp:Ap_g[:a] ...]`` (``:a`` for
-an antisymmetric pulse; ``--vertices`` makes the slider's vertices contact points; the default
-sweep takes about 5 minutes of CPU). The findings are summarised in ``fem/model.py`` and the
+an antisymmetric pulse; ``--vertices`` makes the slider's vertices contact points;
+``--yield-scale K`` multiplies the steel's f_y and f_u by K and ``--rim-thickness T`` [m] sets
+the rims' thickness, variants of the assumed rims; the default sweep takes about 5 minutes of
+CPU). The findings are summarised in ``fem/model.py`` and the
 README.
 """
 
@@ -20,6 +22,7 @@ import math
 import sys
 import tempfile
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -66,9 +69,20 @@ def one(bearing, tp, ap_g, cache, kind="symmetric", vertices=False):
     )
 
 
+def _option(name, default):
+    """The value after ``name`` on the command line, or ``default``."""
+    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+
+
 def main() -> None:
     cases = [arg for arg in sys.argv[1:] if ":" in arg] or DEFAULT
     bearing = DFPBearing(pressure=10e6)
+    scale = float(_option("--yield-scale", 1.0))
+    bearing = replace(
+        bearing, yield_stress=scale * bearing.yield_stress,
+        ultimate_stress=scale * bearing.ultimate_stress,
+        rim_thickness=float(_option("--rim-thickness", bearing.rim_thickness)),
+    )
     W = bearing.weight
     depth = out_of_plane_depth(bearing)
     t = bearing.rim_thickness

@@ -1,0 +1,47 @@
+"""Pictures of the FE model's uplift failure for the README (docs/images/fem_light_uplift*).
+
+The light bearing (10 MPa) under an antisymmetric Ricker pulse (Tp = 1 s, Ap = 1.2 g) on the
+default mesh, with elastic steel (``plasticity=False``: rims that cannot yield, as in the rigid
+model): the state at failure (PNG) and the impact that throws the slider out (GIF). The same
+pulse with the assumed steel rims ends in a rim-root hinge (tests/test_fem_failure.py).
+
+Run: ``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow python docs/fem_figures.py`` (a few
+minutes of CPU).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from pathlib import Path
+
+import numpy as np
+
+import fem
+from fem.output import render_movie, render_result
+from rigid import DFPBearing, G, ricker_record
+
+OUT = Path(__file__).parent / "images"
+
+
+def main() -> None:
+    bearing = DFPBearing(pressure=10e6)
+    _, a = ricker_record(1.2 * G, 1.0, "antisymmetric", dt=0.005, free=3.0)
+    cpu = time.process_time()
+    res = fem.simulate(bearing, a, 0.005, plasticity=False, duration=3.0, snapshot_every=2)
+    cpu = time.process_time() - cpu
+    print(res.summary())
+    print(f"CPU {cpu:.0f} s; largest top-plate rise {res.top_plate_rise.max() * 1e3:.0f} mm; "
+          f"energy error {np.abs(res.energy['residual']).max() / 1e3:.1f} kJ")
+    title = (f"10 MPa bearing, elastic steel: {res.failure_mode} at t = {res.failure_time:.3f} s"
+             f" ({res.failure_detail})")
+    render_result(OUT / "fem_light_uplift.png", res, title=title)
+    first_contact = res.time[np.flatnonzero(res.rim_force.max(axis=1) > 0)[0]]
+    impact = dataclasses.replace(
+        res, snapshots=tuple(s for s in res.snapshots if s[0] >= first_contact - 0.02)
+    )
+    render_movie(OUT / "fem_light_uplift.gif", impact, title="10 MPa, elastic steel", fps=8)
+
+
+if __name__ == "__main__":
+    main()
