@@ -28,7 +28,10 @@ def main() -> None:
     bearing = DFPBearing(pressure=10e6)
     _, a = ricker_record(1.2 * G, 1.0, "antisymmetric", dt=0.005, free=3.0)
     cpu = time.process_time()
-    res = fem.simulate(bearing, a, 0.005, plasticity=False, duration=3.0, snapshot_every=2)
+    # energy_tolerance 1e-4: the default 1e-3 lets the slider's rattle between the airborne
+    # plates reach an energy error of 12 % of the input on this mesh (1.8 % at 1e-4)
+    res = fem.simulate(bearing, a, 0.005, plasticity=False, duration=3.0, snapshot_every=2,
+                       energy_tolerance=1e-4)
     cpu = time.process_time() - cpu
     print(res.summary())
     print(f"CPU {cpu:.0f} s; largest top-plate rise {res.top_plate_rise.max() * 1e3:.0f} mm; "
