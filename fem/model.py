@@ -37,28 +37,29 @@ F_tip, since the couple must lift the supported mass within the milliseconds of 
 
 * **Steel rims (default): yielding.** In a sweep of strong pulses on the light bearing
   (``benchmarks/study_fem_uplift.py``, coarse mesh, ``failure_criterion="escape"``; symmetric
-  Ricker Tp = 1, 2, 3 s at 2.0, 0.8–1.5, 0.8 g and antisymmetric Tp = 1, 2 s at 2.0, 1.0 g,
-  five of which fail the rigid model by uplift) the first hinge always forms at a rim force of
+  Ricker Tp = 1, 2, 3 s at 2.0, 0.8–1.5, 0.8 g and antisymmetric Tp = 1, 2 s at 2.0, 1.0 g, five
+  of which fail the rigid model by uplift) the first hinge always forms at a rim force of
   1.95–2.03 MN (0.8 F_tip) while the slider still has its pendulum tilt (0.127 rad); the hinged
   rims bend out of its way (failure by yielding, 3.9–6.2 s) or stop it, at ≤ 0.19 rad; no run
   ends in uplift (after the hinge the root corners reach plastic strains of 4–6, beyond small
-  strain, so that part is qualitative; docs/images/fem_light_rims_yield*.png: symmetric
-  Tp = 2 s, 0.4 g). Stronger rims move the hinge, not the mode, until they are very strong:
-  with f_y and f_u × 2, 4, 8 (40 mm) or 100 and 200 mm rims (antisymmetric Tp = 1 s at 2 g and
-  Tp = 2 s at 1 g) the hinge forms at 4–17 MN and the slider passes or stops at the bent rim
-  (≤ 0.22 rad); with × 16 (V_p = 40 MN) and × 64, on Tp = 1 s at 1.2 g and Tp = 2 s at 1 g
-  (antisymmetric), one and then both pulses end in uplift.
+  strain, so that part is qualitative; docs/images/fem_light_rims_yield*.png: symmetric Tp = 2
+  s, 0.4 g). Stronger rims move the hinge, not the mode, until they are very strong: with f_y
+  and f_u × 2, 4, 8 (40 mm) or 100 and 200 mm rims (antisymmetric Tp = 1 s at 2 g and Tp = 2 s
+  at 1 g) the hinge forms at 4–17 MN and the slider passes or stops at the bent rim (≤ 0.22 rad;
+  70 mm rims: hinge at 3.6–3.9 MN, rim force up to 2.8 F_tip, ≤ 0.16 rad); with × 16 (V_p = 40
+  MN) and × 64, on Tp = 1 s at 1.2 g and Tp = 2 s at 1 g (antisymmetric), one and then both
+  pulses end in uplift.
 * **Rims that cannot yield** (``plasticity=False``, the rigid model's assumption): **uplift.**
-  The impact is nearly elastic (rim forces 28–111 MN; horizontal rebound ratio of the first
-  rim impact 0.76–0.77 on the pulses of Tp = 2, 3 s, against 0.32–0.48 for the rigid model
-  with the paper's e = 0.65; medians per pulse) and throws the superstructure up and the
-  slider out. On six Ricker pulses, Ap 0.2–1.5 g by
-  0.1 g (``benchmarks/study_fem_elastic_rims.py``, docs/results/fem_elastic_rims_uplift.csv)
-  the lowest failing amplitude of the FE model equals the rigid model's with e = 0.95 on all
-  five pulses that reach the rims, and with e = 0.9 on four (0.5 against 0.6 g on the fifth);
-  with e = 0.65 the rigid model needs 0.2–0.9 g more. The energy balance closes within 1 % of
-  the input in 51 of the 84 runs and within 8 % in all that fail; six runs that do not fail
-  and rattle to the end reach 7–15 %. A threshold is uncertain by about one 0.1 g rung.
+  The impact is nearly elastic (rim forces 28–111 MN; horizontal rebound ratio of the first rim
+  impact 0.76–0.77 on the pulses of Tp = 2, 3 s, against 0.32–0.48 for the rigid model with the
+  paper's e = 0.65; medians per pulse) and throws the superstructure up and the slider out. On
+  six Ricker pulses, Ap 0.2–1.5 g by 0.1 g (``benchmarks/study_fem_elastic_rims.py``,
+  docs/results/fem_elastic_rims_uplift.csv) the lowest failing amplitude of the FE model equals
+  the rigid model's with e = 0.95 on all five pulses that reach the rims, and with e = 0.9 on
+  four (0.5 against 0.6 g on the fifth); with e = 0.65 the rigid model needs 0.2–0.9 g more. The
+  energy balance closes within 1 % of the input in 51 of the 84 runs and within 8 % in all that
+  fail; six runs that do not fail and rattle to the end reach 7–15 %. A threshold is uncertain
+  by about one 0.1 g rung.
 
 So the FE model shows both of the paper's mechanisms, and which one a bearing shows is set by
 its rims' strength against the impact, not by the supported mass alone: with the assumed rims

@@ -169,6 +169,22 @@ def test_elastic_limit_is_exact():
     assert von_mises(res.stress)[0] == pytest.approx(5e6, rel=1e-12)
 
 
+def test_elastic_material_never_yields():
+    """Material.elastic() (f_y = f_u = ∞, the FE's rims that cannot yield): at 100 × the yield
+    strain the response is still σ = C ε with the elastic tangent and no plastic strain (to
+    round-off, 1e-14 relative); its other constants are the steel's."""
+    rng = np.random.default_rng(2)
+    m = STEEL.elastic()
+    assert (m.youngs_modulus, m.poisson_ratio) == (STEEL.youngs_modulus, STEEL.poisson_ratio)
+    strain = rng.normal(size=(4, 20)) * 100 * STEEL.yield_stress / STEEL.youngs_modulus
+    strain[2] = 0.0
+    res = return_map(m, strain, MaterialState.virgin(20))
+    C = m.elastic_tangent()
+    assert not res.plastic.any() and np.all(res.state.eq_plastic_strain == 0.0)
+    assert np.allclose(res.stress, C @ strain, rtol=1e-14, atol=1e-14 * np.abs(C @ strain).max())
+    assert np.allclose(res.tangent, C[..., None], rtol=1e-14, atol=1e-14 * C.max())
+
+
 def test_return_map_does_not_modify_inputs():
     """State is returned as new arrays; the caller's committed state must stay untouched."""
     m = STEEL
