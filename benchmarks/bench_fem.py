@@ -26,10 +26,11 @@ import time
 import numpy as np
 
 import fem
+from fem.geometry import COARSE_MESH
 from rigid import DFPBearing, G, ricker_record
 
 MESHES = {
-    "coarse (rim 20 mm, far 60 mm)": {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06},
+    "coarse (rim 20 mm, far 60 mm)": COARSE_MESH,
     "medium (rim 10 mm, far 40 mm)": {"rim_size": 0.01, "coarse_size": 0.04},
     "default (rim 5 mm, dish 10 mm, far 30 mm)": {},
     "fine (rim 2.5 mm, dish 5 mm, far 15 mm)": {"rim_size": 0.0025, "coarse_size": 0.015},

@@ -27,13 +27,13 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.geometry import COARSE_MESH
 from rigid import DFPBearing, G, ricker_record
 from rigid.parallel import Task, run_tasks
 
 PULSES = [("symmetric", 1.0), ("symmetric", 2.0), ("symmetric", 3.0),
           ("antisymmetric", 1.0), ("antisymmetric", 2.0), ("antisymmetric", 3.0)]
 RESTITUTIONS = (0.65, 0.8, 0.9, 0.95)
-COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 DT = 0.005  # input sampling [s]
 PRESSURE = 10e6  # the light bearing [Pa]
 
@@ -67,7 +67,7 @@ def run_pulse(kind: str, tp: float, ap_g: float, cache: str) -> dict:
                                                    default=0.0)
             row["rigid_rebound"] = rebound_ratio(r.time, r.displacement, r.rim_force)
     cpu = time.process_time()
-    res = fem.simulate(DFPBearing(pressure=PRESSURE), a, DT, mesh_options=COARSE,
+    res = fem.simulate(DFPBearing(pressure=PRESSURE), a, DT, mesh_options=COARSE_MESH,
                        failure_criterion="escape", plasticity=False, cache_dir=cache)
     row.update(
         fem=("numerical" if res.numerical_failure else res.failure_mode or "none"),
@@ -99,7 +99,8 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as cache:
         from fem.geometry import build_mesh
 
-        build_mesh(DFPBearing(pressure=PRESSURE), cache_dir=cache, **COARSE)  # once, not per worker
+        # once, not per worker
+        build_mesh(DFPBearing(pressure=PRESSURE), cache_dir=cache, **COARSE_MESH)
         tasks = [Task(f"{kind}-{tp}-{ap}", "pulse", run_pulse,
                       {"kind": kind, "tp": tp, "ap_g": float(ap), "cache": cache})
                  for kind, tp in PULSES for ap in amplitudes]

@@ -29,9 +29,9 @@ import numpy as np
 import fem
 import rigid
 from fem.dfp import out_of_plane_depth
+from fem.geometry import COARSE_MESH
 from rigid import DFPBearing, G, ricker_record
 
-COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 DEFAULT = ["2:0.8", "1:2.0", "0.5:3.0", "3:0.8", "1:1.0", "2:1.5", "2:1.0:a", "1:2.0:a"]
 
 
@@ -41,7 +41,7 @@ def one(bearing, tp, ap_g, cache, kind="symmetric", vertices=False):
     rb = rigid.simulate(bearing, a, 0.005)
     v_imp = max((abs(i.velocity) for i in rb.impacts), default=0.0)
     c0 = time.process_time()
-    res = fem.simulate(bearing, a, 0.005, mesh_options=COARSE, max_step=0.01,
+    res = fem.simulate(bearing, a, 0.005, mesh_options=COARSE_MESH, max_step=0.01,
                        failure_criterion="escape", vertex_contact=vertices, cache_dir=cache)
     cpu = time.process_time() - c0
     W = bearing.weight

@@ -18,9 +18,9 @@ pytest.importorskip("gmsh")
 import fem
 import rigid
 from fem.dynamics import HHTParameters
+from fem.geometry import COARSE_MESH
 from rigid.bearing import DFPBearing
 
-COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 DT = 0.01
 PULSE = 1.0  # [s] half-sine duration, centred at t_c = 0.5 s
 AMPLITUDE = 0.3  # [m/s²]
@@ -56,7 +56,7 @@ def frictionless(tmp_path_factory):
     bearing = dataclasses.replace(DFPBearing(), friction=0.0, rim_friction=0.0)
     a = half_sine(3.0)
     result = fem.simulate(
-        bearing, a, DT, max_step=0.02, mesh_options=COARSE,
+        bearing, a, DT, max_step=0.02, mesh_options=COARSE_MESH,
         cache_dir=tmp_path_factory.mktemp("meshes"),
     )
     return bearing, a, result
@@ -106,7 +106,7 @@ def test_friction_dissipation(tmp_path_factory):
     bearing = DFPBearing()
     a = 5 * half_sine(2.0)
     res = fem.simulate(
-        bearing, a, DT, max_step=0.02, mesh_options=COARSE,
+        bearing, a, DT, max_step=0.02, mesh_options=COARSE_MESH,
         cache_dir=tmp_path_factory.mktemp("meshes"),
     )
     assert not res.failed and not res.numerical_failure

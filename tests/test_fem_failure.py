@@ -20,10 +20,10 @@ pytest.importorskip("gmsh")
 
 import fem
 import rigid
+from fem.geometry import COARSE_MESH
 from rigid import G, ricker_record
 from rigid.bearing import DFPBearing
 
-COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 DT = 0.01
 
 
@@ -36,7 +36,7 @@ def pulse():
 def heavy(tmp_path_factory):
     bearing = DFPBearing(pressure=60e6)
     res = fem.simulate(
-        bearing, pulse(), DT, max_step=0.02, mesh_options=COARSE,
+        bearing, pulse(), DT, max_step=0.02, mesh_options=COARSE_MESH,
         cache_dir=tmp_path_factory.mktemp("meshes"),
     )
     return bearing, res
@@ -76,7 +76,7 @@ def test_hinge_is_at_the_rim_root(heavy):
     z_root = bearing.dish_depth(r_in)
     # reference coordinates: each rim's root corner is at |x| = r_in on its plate
     z_corner = z_root if z[i] < bearing.slider_height / 2 else bearing.slider_height - z_root
-    assert math.hypot(abs(x[i]) - r_in, z[i] - z_corner) < COARSE["rim_size"]
+    assert math.hypot(abs(x[i]) - r_in, z[i] - z_corner) < COARSE_MESH["rim_size"]
     assert not p[np.abs(x) < r_in - 0.05].any()
 
 
@@ -99,7 +99,7 @@ def test_escape_criteria(tmp_path):
     from fem.model import _check_failure, _corner_nodes
 
     bearing = DFPBearing()
-    model = build_system(bearing, mesh_options=COARSE, cache_dir=tmp_path)
+    model = build_system(bearing, mesh_options=COARSE_MESH, cache_dir=tmp_path)
     sysm = model.system
     nd = sysm.fe.basis.nodal_dofs
     corners = _corner_nodes(model.mesh, bearing)
@@ -143,7 +143,7 @@ def light_pulse():
 
 
 def light_run(cache, **kwargs):
-    return fem.simulate(DFPBearing(pressure=10e6), light_pulse(), 0.005, mesh_options=COARSE,
+    return fem.simulate(DFPBearing(pressure=10e6), light_pulse(), 0.005, mesh_options=COARSE_MESH,
                         max_step=0.01, duration=3.0, cache_dir=cache, **kwargs)
 
 

@@ -16,10 +16,9 @@ from scipy.sparse.linalg import spsolve
 from fem import contact as C
 from fem.dfp import build_system
 from fem.dynamics import HHTParameters
+from fem.geometry import COARSE_MESH
 from fem.linear import REFINE_TOL
 from rigid.bearing import DFPBearing
-
-COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +27,7 @@ def loaded(tmp_path_factory):
     from fem.dynamics import Integrator
 
     bearing = DFPBearing(pressure=60e6)
-    model = build_system(bearing, mesh_options=COARSE, vertex_contact=True,
+    model = build_system(bearing, mesh_options=COARSE_MESH, vertex_contact=True,
                          cache_dir=tmp_path_factory.mktemp("meshes"))
     sysm = model.system
     a, state, _ = Integrator(model, lambda t: 0.0).gravity_step()

@@ -9,7 +9,7 @@ meshio = pytest.importorskip("meshio")
 
 from fem import contact as C  # noqa: E402
 from fem.assembly import PlaneStrainQ1  # noqa: E402
-from fem.geometry import build_mesh  # noqa: E402
+from fem.geometry import COARSE_MESH, build_mesh  # noqa: E402
 from fem.material import von_mises  # noqa: E402
 from fem.output import cell_fields, nodal_displacement, slider_outline, write_vtu  # noqa: E402
 from rigid.bearing import DFPBearing  # noqa: E402
@@ -21,7 +21,7 @@ BEARING = DFPBearing()
 def state(tmp_path_factory):
     mesh = build_mesh(
         BEARING, cache_dir=tmp_path_factory.mktemp("meshes"),
-        rim_size=0.02, contact_size=0.03, coarse_size=0.06,
+        **COARSE_MESH,
     ).mesh
     fe = PlaneStrainQ1(mesh)
     rng = np.random.default_rng(1)

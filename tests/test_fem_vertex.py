@@ -15,9 +15,9 @@ pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
 from fem import contact as C
+from fem.geometry import COARSE_MESH
 from rigid.bearing import DFPBearing
 
-COARSE = {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06}
 EPS_N = 2e14  # [N/m³], the order of the model's ε_N = 10 E / h_c
 
 
@@ -27,7 +27,7 @@ def rim(tmp_path_factory):
     from fem.geometry import build_mesh
 
     bearing = DFPBearing()
-    mesh = build_mesh(bearing, cache_dir=tmp_path_factory.mktemp("meshes"), **COARSE).mesh
+    mesh = build_mesh(bearing, cache_dir=tmp_path_factory.mktemp("meshes"), **COARSE_MESH).mesh
     names = ("bottom_rim_inner", "bottom_rim_top")
     nodes = C.ContactNodes.from_mesh(mesh, dict.fromkeys(names, 0.05), vertex_boundaries=names)
     return bearing, mesh, nodes
@@ -138,7 +138,7 @@ def test_rim_impact_keeps_vertices_out(tmp_path):
     dt = 0.01
     t = np.arange(0.0, 2.0 + dt / 2, dt)
     a = np.where(t < 1.0, 3.0 * np.sin(np.pi * t), 0.0)
-    sysm = build_system(bearing, mesh_options=COARSE, vertex_contact=True,
+    sysm = build_system(bearing, mesh_options=COARSE_MESH, vertex_contact=True,
                         cache_dir=tmp_path).system
 
     def sink(res):
@@ -149,7 +149,7 @@ def test_rim_impact_keeps_vertices_out(tmp_path):
         )
 
     runs = {
-        on: fem.simulate(bearing, a, dt, duration=1.0, max_step=0.02, mesh_options=COARSE,
+        on: fem.simulate(bearing, a, dt, duration=1.0, max_step=0.02, mesh_options=COARSE_MESH,
                          snapshot_every=1, vertex_contact=on, cache_dir=tmp_path)
         for on in (True, False)
     }

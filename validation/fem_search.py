@@ -75,6 +75,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from fem.geometry import COARSE_MESH
 from rigid import DFPBearing, G
 from rigid.parallel import Task, run_tasks
 from rigid.store import ResultStore, task_key
@@ -83,10 +84,10 @@ from rigid.store import ResultStore, task_key
 #: model's ``stop_when_quiet`` margin).
 QUIET_FRACTION = 0.95
 
-#: FE mesh sizes [m] (:func:`fem.geometry.build_mesh`): ``coarse`` is the 905-dof mesh of
-#: tests/test_fem_failure.py (≈ 10× cheaper per Newton iteration than the default, 4 301 dofs).
+#: FE mesh sizes [m] (:func:`fem.geometry.build_mesh`): ``coarse`` is
+#: :data:`fem.geometry.COARSE_MESH` (≈ 10× cheaper per Newton iteration than the default).
 MESHES = {
-    "coarse": {"rim_size": 0.02, "contact_size": 0.03, "coarse_size": 0.06},
+    "coarse": COARSE_MESH,
     "default": {},
 }
 
