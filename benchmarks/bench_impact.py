@@ -30,7 +30,7 @@ from pathlib import Path
 
 from rigid import DFPBearing, G, impact_region_spectrum, region_boundaries
 from rigid.impact import default_amplitudes, default_periods
-from rigid.sweep import SweepSettings, compute_cell
+from rigid.impact.sweep import SweepSettings, compute_cell
 
 
 def one_cell(bearing):

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.signal import butter, sosfiltfilt
 
 import rigid
-from rigid.wavelet import extract_pulses
+from rigid.motions.pulse_extraction import extract_pulses
 
 
 def synthetic_record(duration: float = 40.0, dt: float = 0.005, seed: int = 0):

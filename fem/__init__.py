@@ -7,8 +7,9 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.assembly` — plane-strain Q1 with B-bar, einsum assembly (scikit-fem).
 * :mod:`fem.newton` — Newton iterations for one quasi-static increment (scikit-fem).
 * :mod:`fem.geometry` — the bearing mesh from ``meshes/dfp.geo``, cached (gmsh, scikit-fem).
-* :mod:`fem.contact` — the rigid slider: node-to-analytic-surface penalty contact, Coulomb
-  friction, exact rotation, coupled tangent; optional vertex-to-facet contact (numpy only).
+* :mod:`fem.contact` — the rigid slider: its section and exact rotation, node-to-analytic-
+  surface penalty contact with Coulomb friction and its coupled tangent, optional
+  vertex-to-facet contact (numpy only).
 * :mod:`fem.system` — plates + slider: internal forces, tangent, constraints, static Newton.
 * :mod:`fem.dfp` — the bearing as a plane-strain system (depth, masses, ties, loads).
 * :mod:`fem.linear` — Newton's linear solves: cached elastic LU + low-rank (Woodbury) update.

@@ -1,44 +1,24 @@
 r"""Implicit HHT-α time integration with Newton iterations and automatic step control.
 
-The equations of motion in the frame of the ground (the bottom support follows the ground;
-every mass carries the inertial load −M r a_g, r the horizontal influence vector) are, for the
-reduced unknowns ``a`` of :class:`fem.system.Reduction`,
+The equations of motion in the frame of the ground, for the reduced unknowns ``a`` of
+:class:`fem.system.Reduction`, are M ä + f_int(a) = f_ext(t) = g − M r a_g(t), with a lumped M,
+g the weights and r the horizontal influence vector. Each step solves the HHT-α equilibrium
+(Hilber, Hughes & Taylor 1977) with the Newmark updates (docs/theory/fem.md, Eqs. F20–F22) by
+Newton's method on d_{n+1}, starting from the predictor d_n + Δt v_n + Δt² a_n/2 (which
+follows the slider's curved path to third order) with the tangent M/(βΔt²) + (1 + α) K_t; the
+linear solves use :class:`fem.linear.TangentSolver`, and a line search's accepted evaluation
+serves as the next iteration's.
 
-    M ä + f_int(a) = f_ext(t) = g − M r a_g(t),
+Step control (docs/theory/fem.md, "Time steps"): a step whose Newton iteration does not
+converge is retried with half the step (down to ``min_step``); a step that opens or closes a
+rim contact while longer than ``impact_step`` is retried at ``impact_step``, which is kept while
+any rim contact is active; a step that changes the energy-balance residual by more than
+``energy_tol`` is redone at half the size; afterwards the step doubles back to ``max_step``.
 
-with a lumped (diagonal) M, g the weights. The HHT-α method (Hilber, Hughes & Taylor 1977,
-EESD 5:283, Eqs. 2–3) solves at each step
-
-    M a_{n+1} + (1 + α) f_int(d_{n+1}) − α f_int(d_n) = (1 + α) f_ext(t_{n+1}) − α f_ext(t_n)
-
-with the Newmark updates d_{n+1} = d_n + Δt v_n + Δt²[(½ − β) a_n + β a_{n+1}] and
-v_{n+1} = v_n + Δt[(1 − γ) a_n + γ a_{n+1}], β = (1 − α)²/4, γ = ½ − α, −⅓ ≤ α ≤ 0
-(second-order accurate, unconditionally stable for linear problems, high-frequency spectral
-radius ρ∞ = (1 + α)/(1 − α), fem.md §5.9). The default α = −0.3 (ρ∞ = 0.54) is the
-fem.md sensitivity value for impact chatter rather than its −0.05 baseline: the rigid slider on
-penalty springs has contact modes near 10⁵ rad/s that α = −0.05 barely damps; their noise in
-the predictor cost 10.5 Newton iterations and 198 cutbacks per 477 steps on a free-sliding run
-against 2.9 iterations and one cutback with −0.3 (measured). The price is HHT's algorithmic
-damping of the pendulum mode, ξ̄ ≈ −αΩ/2 = 0.1 % of critical at Ω = ωΔt = 0.007
-(T = 4.4 s, Δt = 5 ms), and a period error O(Ω²). Newton iterates on
-d_{n+1} with the tangent M/(βΔt²) + (1 + α) K_t from the predictor d_n + Δt v_n + Δt² a_n/2,
-which follows the slider's curved path to third order (the stiff penalty contact needs the
-iterate to start within µm of the dish; see fem.md §3.5 on gaps). The linear solves use
-:class:`fem.linear.TangentSolver` (elastic LU cached per step size, low-rank update for contact
-and plasticity); a line search's accepted evaluation serves as the next iteration's.
-
-Step control: a step whose Newton iteration does not converge is retried with half the step
-(down to ``min_step``); a step that opens or closes a rim contact while longer than
-``impact_step`` is retried at ``impact_step``, which is kept while any rim contact is active
-(impacts last milliseconds); afterwards the step doubles back to ``max_step``.
-
-Energy (per unit depth) is recorded each step with trapezoidal work increments:
-input W_ext = Σ ½(f_ext,n + f_ext,n+1)·Δd (gravity and ground loads), kinetic ½vᵀMv, material
-work split into elastic strain energy and plastic dissipation, the penalty springs' energy,
-and the friction work Σ −T·ΔS summed node by node (backward Euler, like the return map):
-the slip dissipation plus the tiny elastic energy of the stick springs, so a step may return a
-little of it. The balance residual input − (kinetic + strain + plastic + contact + friction)
-is HHT's algorithmic dissipation plus the trapezoidal error of the work sums.
+Energy per unit depth is recorded every step (Eq. F23): the input work, kinetic energy,
+material work split into elastic strain energy and plastic dissipation, the penalty springs'
+energy and the friction work; their residual is HHT's algorithmic dissipation plus the
+trapezoidal error of the work sums.
 """
 
 from __future__ import annotations

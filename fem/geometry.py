@@ -52,12 +52,10 @@ BOUNDARIES = (
 
 
 def default_cache_dir() -> Path:
-    """``$DFP_CACHE_DIR/meshes``, else ``$XDG_CACHE_HOME/dfp-failure/meshes`` (``~/.cache``)."""
-    root = os.environ.get("DFP_CACHE_DIR")
-    if root:
-        return Path(root) / "meshes"
-    xdg = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(xdg) / "dfp-failure" / "meshes"
+    """``meshes`` in the library's cache root (:func:`rigid.tasks.cache_root`)."""
+    from rigid.tasks import cache_root
+
+    return cache_root() / "meshes"
 
 
 def geometry_parameters(

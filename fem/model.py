@@ -3,89 +3,19 @@ r"""``fem.simulate``: the plane-strain FE model of a DFP bearing under horizonta
 Same input conventions as :func:`rigid.simulate` (a ground acceleration sampled every ``dt``,
 linear in between, at rest beyond the record). Steps: mesh and system
 (:func:`fem.dfp.build_system`), gravity (static), then HHT-α (:mod:`fem.dynamics`) in the frame
-of the ground.
-
-Failure definitions (checked after every accepted step):
+of the ground, with the failure checks below after every accepted step.
 
 * **plastic hinge** — every quadrature point of a rim's first element row above its root,
-  across the whole rim thickness, has yielded (p > 0): the root section has reached its plastic
-  capacity under the combined shear and moment of the impact (the mechanism of the paper's
-  Figure 3, left; fem.md §5.4 gives M_p), and the rim turns into a mechanism instead of a
-  restraint. A plastic zone confined to the re-entrant corner at the root (a stress
-  singularity) is not a hinge. Hinge times are recorded for every rim.
-* **escape** — the slider gets past a rim: a bottom (top) vertex of the slider lies beyond the
-  *deformed* inner top corner of a bottom (top) rim, horizontally outside it and vertically
-  past it; or its centroid passes a rim's inner face; or it overturns (|Θ| > 45°). These are
-  the rigid model's criteria (``rigid/_kernel.py``), applied to the deformed rims.
+  across the whole rim thickness, has yielded: the root section has reached its plastic
+  capacity and the rim turns into a mechanism. Hinge times are recorded for every rim.
+* **escape** — a bottom (top) vertex of the slider lies beyond the *deformed* inner top corner
+  of a bottom (top) rim, horizontally outside it and vertically past it; or its centroid passes
+  a rim's inner face; or it overturns (|Θ| > 45°): the rigid model's criteria on deformed rims.
 
-With ``failure_criterion="hinge"`` (default) the run fails by **yielding** at the first hinge,
-and by **uplift** if the slider escapes before any hinge forms. With ``"escape"`` only an
-escape is failure: **yielding** if the slider passed a hinged rim without rising above the
-rim's undeformed top corner (the rim was pushed out of its way), **uplift** if it climbed above
-it (over a rim that still stood, or stood enough to be climbed). The first is the
-engineering limit state (the restraint is lost once the hinge forms); the second follows the
-motion further, as far as the small-strain rims remain meaningful.
-
-Yielding or uplift (a statics estimate, then measurements). At the rims the slider is pushed by
-a couple of rim forces F, one near each rim root, about h apart; it tips (uplift) once F·h
-exceeds the resisting couple W·b of the supported load, F ≥ W b/h. A rim root can carry at
-most about its plastic shear force t·f_y/√3 per unit depth (less with the moment), so uplift
-before the rims yield needs t ≳ √3 p b²/(h f_y) (W/depth = p·b): 40 mm at 10 MPa and 240 mm at
-60 MPa for the baseline bearing. The assumed 40 mm rims are at that threshold for the light
-bearing (F_tip = W b/h = 2.51 MN against V_p = 2.50 MN), and an impact needs much more than
-F_tip, since the couple must lift the supported mass within the milliseconds of the impact:
-
-* **Steel rims (default): yielding.** In a sweep of strong pulses on the light bearing
-  (``benchmarks/study_fem_uplift.py``, coarse mesh, ``failure_criterion="escape"``; symmetric
-  Ricker Tp = 1, 2, 3 s at 2.0, 0.8–1.5, 0.8 g and antisymmetric Tp = 1, 2 s at 2.0, 1.0 g, five
-  of which fail the rigid model by uplift) the first hinge always forms at a rim force of
-  1.95–2.03 MN (0.8 F_tip) while the slider still has its pendulum tilt (0.127 rad); the hinged
-  rims bend out of its way (failure by yielding, 3.9–6.2 s) or stop it, at ≤ 0.19 rad; no run
-  ends in uplift (after the hinge the root corners reach plastic strains of 4–6, beyond small
-  strain, so that part is qualitative; docs/images/fem_light_rims_yield*.png: symmetric Tp = 2
-  s, 0.4 g). Stronger rims move the hinge, not the mode, until they are very strong: with f_y
-  and f_u × 2, 4, 8 (40 mm) or 100 and 200 mm rims (antisymmetric Tp = 1 s at 2 g and Tp = 2 s
-  at 1 g) the hinge forms at 4–17 MN and the slider passes or stops at the bent rim (≤ 0.22 rad;
-  70 mm rims: hinge at 3.6–3.9 MN, rim force up to 2.8 F_tip, ≤ 0.16 rad); with × 16 (V_p = 40
-  MN) and × 64, on Tp = 1 s at 1.2 g and Tp = 2 s at 1 g (antisymmetric), one and then both
-  pulses end in uplift.
-* **Rims that cannot yield** (``plasticity=False``, the rigid model's assumption): **uplift.**
-  The impact is nearly elastic (rim forces 28–111 MN; horizontal rebound ratio of the first rim
-  impact 0.76–0.77 on the pulses of Tp = 2, 3 s, against 0.32–0.48 for the rigid model with the
-  paper's e = 0.65; medians per pulse) and throws the superstructure up and the slider out. On
-  six Ricker pulses, Ap 0.2–1.5 g by 0.1 g (``benchmarks/study_fem_elastic_rims.py``,
-  docs/results/fem_elastic_rims_uplift.csv) the lowest failing amplitude of the FE model equals
-  the rigid model's with e = 0.95 on all five pulses that reach the rims, and with e = 0.9 on
-  four (0.5 against 0.6 g on the fifth); with e = 0.65 the rigid model needs 0.2–0.9 g more. The
-  energy balance closes within 1 % of the input in 51 of the 84 runs and within 8 % in all that
-  fail; six runs that do not fail and rattle to the end reach 7–15 %. A threshold is uncertain
-  by about one 0.1 g rung.
-
-So the FE model shows both of the paper's mechanisms, and which one a bearing shows is set by
-its rims' strength against the impact, not by the supported mass alone: with the assumed rims
-both pressures fail by yielding. tests/test_fem_failure.py runs one pulse both ways
-(antisymmetric, Tp = 1 s, 1.2 g: hinge at 2.13 s with steel rims, uplift at 2.36 s without
-yield); docs/images/fem_light_uplift.* show the uplift on the default mesh, stress colours
-capped at f_u = 450 MPa: the red parts of the plates at the impact are where the assumed steel
-would have yielded (the elastic peak is 27 GPa).
-
-Slider vertices (``vertex_contact=True``, off by default). By default only plate nodes are
-contact points, so the leading vertex of the tilted slider (≈ 0.125 rad at the rims) sinks into
-a rim between two of its nodes until the next rim node meets the slider's side: 3.1 mm on the
-coarse mesh (20 mm rim elements) at the hinge of ``tests/test_fem_failure.py``. With the
-vertices as contact points (:func:`fem.contact.vertex_contact`) that vertex is held at the rim
-face, which it meets at the very root (the slider's bottom face rests on the dish), so the
-impact load enters the rim at its base as a knife-edge line load: in the same run the corner
-element is crushed (equivalent plastic strain 1.7, beyond small strain), the rim force reaches
-4.4 MN (above the root's shear capacity, since the load bypasses the root section), no hinge
-forms (81 % of the root row yields) and the slider stops at 0.68 m. A sharp rigid corner is the
-plane-strain idealisation of a slider edge that is round or chamfered in reality; until the edge
-radius is modelled, the node-only contact (a corner that may sink by millimetres, 3.1 mm here)
-stays the default, and ``vertex_contact=True`` shows the bound. With vertex contacts the
-light-bearing sweep above (``study_fem_uplift.py --vertices``) ends the same way or worse: five
-of the six strong runs stop numerically (Newton fails even at 1 µs steps) within 3 ms of the
-first hinge, once the crushed corner elements reach plastic strains of 2.5, and the sixth fails
-by yielding; the slider turns at most 0.158 rad, no uplift.
+``failure_criterion`` picks which of them ends the run and how ``failure_mode`` is labelled
+(yielding: the rim let go; uplift: the slider climbed over a rim that held). The definitions
+and why they were chosen are in ``docs/theory/fem.md`` ("Failure"); what the model found with
+them (yielding against uplift, the rims' strength, vertex contact) is in ``docs/fem.md``.
 """
 
 from __future__ import annotations

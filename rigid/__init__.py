@@ -2,18 +2,29 @@
 
 Bao & Becker (2016), *Predicting failure in sliding isolation bearings under long-period
 motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
+
+Layout: the model itself (:mod:`rigid.bearing`, :mod:`rigid.model` and its Numba kernel);
+:mod:`rigid.motions` (records, record sets, pulses, spectra, pulse extraction);
+:mod:`rigid.impact` (impact spectra, paper §3); :mod:`rigid.collapse` (critical SA, its
+prediction, fragility, paper §4); :mod:`rigid.tasks` (result store, cache, task runner).
+Every public name is importable from ``rigid`` itself.
 """
 
-from .bearing import DFPBearing, G, jankowski_damping_ratio
-from .fragility import (
+from .bearing import DFPBearing, jankowski_damping_ratio
+from .collapse import (
     CollapseMargin,
+    CriticalSA,
     LognormalFit,
+    PredictedSA,
     collapse_margin,
+    critical_sa,
+    critical_sas,
     fit_lognormal,
+    predict_critical_sa,
     set_collapse_intensity,
 )
-from .ida import CriticalSA, critical_sa, critical_sas
 from .impact import (
+    SweepSettings,
     design_chart,
     impact_region_spectrum,
     impact_velocity_spectrum,
@@ -24,13 +35,25 @@ from .impact import (
     save_spectrum,
 )
 from .model import Impact, NumericalInstabilityError, SimulationResult, simulate
-from .predict import PredictedSA, predict_critical_sa
-from .pulses import ricker, ricker_displacement, ricker_record, ricker_velocity
-from .record_sets import fema_p695, read_manifest
-from .records import GroundMotion, RecordFormatError, read_record
-from .spectra import pseudo_acceleration, scale_factor, scaling_ladder
-from .sweep import SweepSettings
-from .wavelet import Pulse, best_pulse, extract_pulse, extract_pulses
+from .motions import (
+    GroundMotion,
+    Pulse,
+    RecordFormatError,
+    best_pulse,
+    extract_pulse,
+    extract_pulses,
+    fema_p695,
+    pseudo_acceleration,
+    read_manifest,
+    read_record,
+    ricker,
+    ricker_displacement,
+    ricker_record,
+    ricker_velocity,
+    scale_factor,
+    scaling_ladder,
+)
+from .units import G
 
 __all__ = [
     "CollapseMargin",

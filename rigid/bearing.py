@@ -11,8 +11,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
-#: Standard gravity [m/s²]; the only place g is defined (FEMA P695 uses the same value).
-G = 9.80665
+from .units import G
+
+__all__ = ["DFPBearing", "G", "jankowski_damping_ratio"]
 
 
 def jankowski_damping_ratio(restitution: float) -> float:

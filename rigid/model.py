@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _kernel as K
-from .bearing import DFPBearing, G
+from .bearing import DFPBearing
+from .units import G
 
 #: Default largest internal step [s]. Chosen by the step-convergence study in
 #: ``tests/test_model_convergence.py`` and BENCHMARKS.md: halving it changes the maximum impact

@@ -86,7 +86,7 @@ def test_validation_run_on_a_manifest(tmp_path):
     of criterion 4 lands within one 0.01 g rung of the actual critical SA (the method is exact
     for a record that is its own pulse; tests/test_predict.py checks this in depth). No FE
     runs here (minutes each; tests/test_fem_search.py tests their search)."""
-    from validation.netcdf import read_table
+    from validation.report.netcdf import read_table
 
     out = tmp_path / "run"
     result = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",

@@ -135,7 +135,7 @@ def test_escape_criteria(tmp_path):
 # rims forms a rim-root hinge at the first rim impact (2.13 s); with elastic steel the same
 # impact throws the superstructure up and the slider out. The rigid model (unyielding rims)
 # fails by uplift with e ≥ 0.8 and survives with the paper's e = 0.65
-# (benchmarks/study_fem_elastic_rims.py).
+# (validation/studies/fem_elastic_rims.py).
 
 
 def light_pulse():

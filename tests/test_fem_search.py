@@ -9,15 +9,9 @@ import pytest
 
 import rigid
 from rigid import DFPBearing, G
-from rigid.store import ResultStore
-from validation.fem_search import (
-    BracketBisect,
-    FESettings,
-    rigid_critical_sa_trimmed,
-    run_fem_searches,
-    sliding_threshold,
-    strong_motion_window,
-)
+from rigid.collapse.trimming import critical_sa_trimmed, sliding_threshold, strong_motion_window
+from rigid.tasks.store import ResultStore
+from validation.fem_search import BracketBisect, FESettings, run_fem_searches
 
 
 def _drive(search, threshold):
@@ -106,7 +100,7 @@ def _oracle(motion, crit, stop=STOP):
 
 
 def test_fem_searches_run_as_stored_resumable_tasks(tmp_path):
-    """Through rigid.parallel.run_tasks with the stand-in runner: every search ends on the
+    """Through rigid.tasks.runner.run_tasks with the stand-in runner: every search ends on the
     brute-force threshold rung (exact: the outcome is monotonic), one stored run per probe.
     An interrupted search resumes: the rerun calls the runner only for the probes not yet
     stored and gives the same answers as an uninterrupted run; a second rerun runs nothing."""
@@ -153,7 +147,7 @@ def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):
     """The pipeline's single task run (rigid ladders, then each FE search as a follow-up of
     its record's rigid task): the rigid results equal run_rigid's, the FE search starts at
     the rigid critical SA and ends on the stand-in's threshold rung (brute force)."""
-    from validation.pipeline import Settings, run_rigid, run_validation
+    from validation.run import Settings, run_rigid, run_validation
 
     _, a = rigid.ricker_record(0.2 * G, 2.5, "antisymmetric", dt=0.01, free=8.0)
     motion = rigid.GroundMotion(name="pulse", dt=0.01, acceleration=a)
@@ -197,12 +191,12 @@ def test_trimming_keeps_the_rigid_critical_sa(index, pressure):
     impact after the trimmed end (the end argument). Exact equality: trimming must not change
     a verdict. Records with a low critical SA (few rungs: NORTHR/RRS_032, 20 s, 0.16 g at both
     pressures; NORTHR/SYL_122, 40 s, 0.13 g at 10 MPa) keep the test to seconds;
-    benchmarks/check_trimming.py runs all 28 at both pressures."""
+    validation/studies/trimming_check.py runs all 28 at both pressures."""
     motion = rigid.fema_p695("nearfield_pulse")[index]
     assert motion.name.split()[0] in ("nearfield_pulse-9a", "nearfield_pulse-10b")
     bearing = DFPBearing(pressure=pressure)
     untrimmed = rigid.critical_sa(bearing, motion, STEP, stop=STOP, search="fast")
-    trimmed = rigid_critical_sa_trimmed(bearing, motion, STEP, stop=STOP, search="fast")
+    trimmed = critical_sa_trimmed(bearing, motion, STEP, stop=STOP, search="fast")
     assert untrimmed.sa is not None
     assert trimmed["sa"] == untrimmed.sa
     assert {r.index: r.failed for r in untrimmed.rungs} == {
@@ -225,7 +219,7 @@ def test_one_real_fem_run_through_the_runner(tmp_path):
     pytest.importorskip("gmsh")
     import dataclasses
 
-    from validation.fem_search import fem_run
+    from validation.fem_runs import fem_run
 
     dt = 0.01
     t = np.arange(0.0, 3.0 + dt / 2, dt)

@@ -1,4 +1,5 @@
-"""Fragility fit and collapse margin (rigid.fragility) against closed forms written here."""
+"""Fragility fit and collapse margin (rigid.collapse.fragility) against closed forms written
+here."""
 
 import math
 
@@ -7,8 +8,8 @@ import pytest
 from scipy import optimize, stats
 
 from rigid import G
-from rigid.fragility import collapse_margin, fit_lognormal, set_collapse_intensity
-from rigid.ida import CriticalSA
+from rigid.collapse.fragility import collapse_margin, fit_lognormal, set_collapse_intensity
+from rigid.collapse.ladder import CriticalSA
 
 
 def _result(sa, record_sa, stop=3 * G):

@@ -1,4 +1,5 @@
-"""Critical SA by time history (rigid.ida): ladder bookkeeping, fast search, cache, pool.
+"""Critical SA by time history (rigid.collapse.ladder): ladder bookkeeping, fast search, cache,
+pool.
 
 Records are short synthetic Ricker pulses (with and without noise) on coarse 0.05 g ladders,
 so each ladder costs a few seconds. Outcomes (failed / survived) are compared exactly: the
@@ -8,9 +9,9 @@ model is deterministic, so the same scaled record must give the same verdict.
 import numpy as np
 import pytest
 
-import rigid.ida as ida
+import rigid.collapse.ladder as ida
 from rigid import DFPBearing, G, pseudo_acceleration, ricker_record, simulate
-from rigid.ida import CriticalSA, Rung, critical_sa, critical_sas
+from rigid.collapse.ladder import CriticalSA, Rung, critical_sa, critical_sas
 
 LIGHT = DFPBearing(pressure=10e6)
 DT = 0.01
@@ -98,7 +99,7 @@ def test_cache_reuse_and_resume(tmp_path, monkeypatch):
 def test_cache_false_disables_the_cache(tmp_path, monkeypatch):
     """``cache=False`` behaves as None: the ladder runs and nothing is written to the default
     cache directory (it used to be taken for a path and raise)."""
-    monkeypatch.setenv("DFP_FAILURE_CACHE", str(tmp_path / "default"))
+    monkeypatch.setenv("DFP_CACHE_DIR", str(tmp_path / "default"))
     res = critical_sa(LIGHT, _record(), STEP, dt=DT, cache=False, stop=0.1 * G)
     assert len(res.rungs) == 2
     assert not (tmp_path / "default").exists()
@@ -136,7 +137,7 @@ def test_parallel_matches_serial():
     """Two records in a 2-process pool give the same rungs as in this process (short ladders
     of two 0.15 g rungs: this checks the plumbing, not the physics)."""
     motions = [_record(), _record("antisymmetric", 2.5)]
-    from rigid.records import GroundMotion
+    from rigid.motions.record import GroundMotion
 
     motions = [GroundMotion(name=f"r{i}", dt=DT, acceleration=a) for i, a in enumerate(motions)]
     kw = {"step": 0.15 * G, "stop": 0.3 * G, "cache": None, "progress": False}

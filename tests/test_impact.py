@@ -1,7 +1,7 @@
 """Impact velocity and impact region spectra (paper §3, Figs. 6–8).
 
 Each test names its oracle and why its tolerance is what it is. Grids are coarse to keep the
-suite fast; the resolution study is ``benchmarks/study_impact_resolution.py``. All sweeps run
+suite fast; the resolution study is ``validation/studies/impact_resolution.py``. All sweeps run
 in this process (``workers=1``) with a cache in a temporary folder, except the one test of
 the process pool.
 """
@@ -34,8 +34,8 @@ from rigid.impact import (
     nonmonotonic_periods,
     settings_from_attrs,
 )
-from rigid.spectra import spectral_displacement
-from rigid.sweep import pulse_record, run_cells
+from rigid.impact.sweep import pulse_record, run_cells
+from rigid.motions.spectra import spectral_displacement
 
 LIGHT = DFPBearing(pressure=10e6)
 HEAVY = DFPBearing(pressure=60e6)
@@ -201,7 +201,7 @@ def test_cache_resumes_and_keys_on_every_input(tmp_path):
 
 
 def _cached_cells(path):
-    from rigid.store import ResultStore
+    from rigid.tasks.store import ResultStore
 
     if not path.exists():
         return 0
@@ -343,7 +343,7 @@ def test_design_chart_collapses_without_friction(cache):
 
 
 def test_plots_are_written(spectra_08g, grid, bisected, tmp_path):
-    from rigid.impact_plots import (
+    from rigid.impact.plots import (
         plot_impact_region_spectrum,
         plot_impact_velocity_spectrum,
         plot_max_impact_velocity_spectra,

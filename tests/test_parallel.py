@@ -12,24 +12,49 @@ import numpy as np
 import pytest
 
 from rigid import DFPBearing, G, ricker_record
-from rigid.ida import _run_rung
-from rigid.parallel import Task, run_tasks
-from rigid.store import ResultStore, task_key
+from rigid.collapse.ladder import _run_rung
+from rigid.tasks.runner import Task, run_tasks
+from rigid.tasks.store import ResultStore, task_key
+
+RIGID = ("rigid",)
 
 
 def test_task_key_is_canonical_and_sensitive():
     b = DFPBearing()
     a = np.linspace(0, 1, 11)
-    k = task_key("rigid", bearing=b, acceleration=a, scale=1.0)
-    assert k == task_key("rigid", scale=1.0, acceleration=a.copy(), bearing=DFPBearing())
-    assert k != task_key("rigid", bearing=b, acceleration=a, scale=1.01)
-    assert k != task_key("rigid", bearing=dataclasses.replace(b, friction=0.06),
+    k = task_key("rigid", RIGID, bearing=b, acceleration=a, scale=1.0)
+    assert k == task_key("rigid", RIGID, scale=1.0, acceleration=a.copy(), bearing=DFPBearing())
+    assert k != task_key("rigid", RIGID, bearing=b, acceleration=a, scale=1.01)
+    assert k != task_key("rigid", RIGID, bearing=dataclasses.replace(b, friction=0.06),
                          acceleration=a, scale=1.0)
     changed = a.copy()
     changed[5] += 1e-12
-    assert k != task_key("rigid", bearing=b, acceleration=changed, scale=1.0)
+    assert k != task_key("rigid", RIGID, bearing=b, acceleration=changed, scale=1.0)
+    assert k != task_key("rigid", ("rigid", "fem"), bearing=b, acceleration=a, scale=1.0)
     with pytest.raises(TypeError, match="object"):
-        task_key("rigid", thing=object())
+        task_key("rigid", RIGID, thing=object())
+
+
+def test_task_key_changes_with_the_models_code(tmp_path, monkeypatch):
+    """A stored result of an edited model is never replayed: the key holds the hash of the
+    model's source files, so editing one byte of them gives another key (the files here are
+    stand-ins in a temporary root; the real ones are rigid/model.py, fem/, …)."""
+    from rigid.tasks import cache
+
+    (tmp_path / "model").mkdir()
+    source = tmp_path / "model" / "kernel.py"
+    source.write_text("x = 1\n")
+    monkeypatch.setattr(cache, "ROOT", tmp_path)
+    monkeypatch.setitem(cache.MODEL_CODE, "rigid", ("model",))
+    cache.code_hash.cache_clear()
+    before = task_key("rung", RIGID, scale=1.0)
+    source.write_text("x = 2\n")
+    cache.code_hash.cache_clear()
+    after = task_key("rung", RIGID, scale=1.0)
+    cache.code_hash.cache_clear()
+    assert before != after
+    with pytest.raises(ValueError, match="unknown model"):
+        task_key("rung", ("kernel",), scale=1.0)
 
 
 def test_store_round_trip(tmp_path):
@@ -47,7 +72,7 @@ def _square(x):
 
 
 def _tasks(n):
-    return [Task(task_key("square", x=x), "square", _square, {"x": x}) for x in range(n)]
+    return [Task(task_key("square", RIGID, x=x), "square", _square, {"x": x}) for x in range(n)]
 
 
 def test_rerun_reuses_stored_results(tmp_path):
@@ -70,7 +95,7 @@ def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
 
     def next_rung(task, result):
         x = task.kwargs["x"]
-        return [] if result["y"] > 20 else [Task(task_key("square", x=x + 1), "square",
+        return [] if result["y"] > 20 else [Task(task_key("square", RIGID, x=x + 1), "square",
                                                  _square, {"x": x + 1})]
 
     results = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=next_rung)
@@ -82,8 +107,9 @@ def _rigid_tasks(n):
     bearing = DFPBearing(pressure=10e6)
     _, a = ricker_record(0.1 * G, 3.0, dt=0.01)  # fails at 0.8 g (tests/test_model.py)
     sim = {"on_instability": "refine", "free": 10.0}
-    return [Task(task_key("rigid", bearing=bearing, acc=a, dt=0.01, scale=s, sim=sim), "rigid",
-                 _run_rung, {"bearing": bearing, "acc": a, "dt": 0.01, "scale": s, "sim": sim})
+    return [Task(task_key("rigid", RIGID, bearing=bearing, acc=a, dt=0.01, scale=s, sim=sim),
+                 "rigid", _run_rung,
+                 {"bearing": bearing, "acc": a, "dt": 0.01, "scale": s, "sim": sim})
             for s in np.linspace(1.0, 8.0, n)]
 
 
@@ -114,8 +140,8 @@ RESUMABLE_RUN = textwrap.dedent("""
     import dataclasses, sys
     sys.path.insert(0, {tests!r})
     from test_parallel import _paused_rung, _rigid_tasks
-    from rigid.parallel import run_tasks
-    from rigid.store import ResultStore
+    from rigid.tasks.runner import run_tasks
+    from rigid.tasks.store import ResultStore
     tasks = [dataclasses.replace(t, func=_paused_rung, kwargs={{**t.kwargs, "pause": 1.0}})
              for t in _rigid_tasks(8)]
     run_tasks(tasks, ResultStore(sys.argv[1]), workers=1, progress=False)
@@ -158,8 +184,8 @@ INTERRUPTED_RUN = textwrap.dedent("""
     import sys
     sys.path.insert(0, {tests!r})
     from test_parallel import _sleep
-    from rigid.parallel import Task, run_tasks
-    from rigid.store import ResultStore
+    from rigid.tasks.runner import Task, run_tasks
+    from rigid.tasks.store import ResultStore
     tasks = [Task(str(i), "sleep", _sleep, {{"seconds": 300, "flag": sys.argv[2] + str(i)}})
              for i in range(2)]
     try:

@@ -1,4 +1,5 @@
-"""Predicted critical SA (rigid.predict): exactness on a pure pulse, ladder arithmetic, search.
+"""Predicted critical SA (rigid.collapse.predict): exactness on a pure pulse, ladder arithmetic,
+search.
 
 The pure-pulse cases run the rigid model (0.01 g ladders on 13-18 s records); the
 ladder-arithmetic cases use stub regions with a closed-form answer.
@@ -10,8 +11,8 @@ import numpy as np
 import pytest
 
 from rigid import DFPBearing, G, Pulse, pseudo_acceleration, ricker_record
-from rigid.ida import critical_sa
-from rigid.predict import predict_critical_sa, pulse_region
+from rigid.collapse.ladder import critical_sa
+from rigid.collapse.predict import predict_critical_sa, pulse_region
 
 LIGHT = DFPBearing(pressure=10e6)
 DT = 0.01
@@ -131,8 +132,8 @@ def test_table2_counts_and_figures(tmp_path):
     """Table 2 counts |error| ≤ 20 % (the boundary included), splits at Tp = 0.5 s, leaves out
     records without an actual failure and counts a missing prediction as not good; the
     Fig. 11/12 plots write PNG files."""
-    from rigid.comparison import table2, write_csv
-    from rigid.prediction_plots import plot_comparison, plot_prediction
+    from rigid.collapse.comparison import table2, write_csv
+    from rigid.collapse.plots import plot_comparison, plot_prediction
 
     rows = [_row(1.0, 1.2, 2.0), _row(1.0, 1.25, 2.0), _row(0.5, 0.45, 0.4),
             _row(0.5, math.nan, 0.3), _row(math.nan, 0.3, 1.0)]

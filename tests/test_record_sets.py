@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import rigid
-from rigid.record_sets import fema_p695_spectra, read_manifest
+from rigid.motions.record_sets import fema_p695_spectra, read_manifest
 
 G = rigid.G
 SETS = {"farfield": 44, "nearfield_pulse": 28, "nearfield_no_pulse": 28}

@@ -12,9 +12,7 @@ import numpy as np
 import pytest
 
 import rigid
-from rigid.records import (
-    GroundMotion,
-    RecordFormatError,
+from rigid.motions.formats import (
     detect_format,
     read_jma_csv,
     read_knet,
@@ -22,6 +20,7 @@ from rigid.records import (
     read_plain,
     read_record,
 )
+from rigid.motions.record import GroundMotion, RecordFormatError
 
 G = 9.80665  # the standard gravity every reader must use (rigid.G)
 RNG = np.random.default_rng(42)
@@ -321,7 +320,7 @@ def test_ground_motion_is_frozen_and_read_only():
 
 def test_velocity_and_displacement_of_a_ricker_pulse():
     # Trapezoidal integrals of a sampled symmetric Ricker against the exact velocity and
-    # displacement (rigid.pulses). To leading order the cumulative trapezoid errs by
+    # displacement (rigid.motions.pulses). To leading order the cumulative trapezoid errs by
     # −(dt²/12)(a′(t) − a′(0)) in v and −(dt²/6)(a(t) − a(0)) in d (a′(0) ≈ 0 here), so the
     # largest errors are (dt²/12)·max|a′| and (dt²/6)·Ap. Checked to 1 %: the O(dt⁴) terms
     # and np.gradient's O(dt²) slope error are far smaller.

@@ -2,7 +2,7 @@
 
 import base64
 
-from validation.report import Report
+from validation.report.html import Report
 
 # the 8-byte PNG signature plus an IHDR-like tail: enough to check the embedding round-trips
 PNG = b"\x89PNG\r\n\x1a\n" + b"\x00" * 16

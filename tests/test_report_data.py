@@ -11,9 +11,9 @@ pytest.importorskip("netCDF4")
 
 from rigid import G
 from validation.fem_search import FECritical, FESettings
-from validation.netcdf import column_units, read_table, variable_name, write_tables
-from validation.pipeline import Settings
-from validation.summary import write_report
+from validation.report import write_report
+from validation.report.netcdf import column_units, read_table, variable_name, write_tables
+from validation.run import Settings
 
 
 def test_tables_round_trip_through_netcdf(tmp_path):

@@ -13,7 +13,7 @@ import pytest
 from scipy.signal import lsim
 
 import rigid
-from rigid.spectra import nigam_jennings_coefficients, scaling_ladder, spectral_displacement
+from rigid.motions.spectra import nigam_jennings_coefficients, scaling_ladder, spectral_displacement
 
 
 def lsim_displacement(acc, dt, period, damping):

@@ -1,4 +1,4 @@
-"""Ricker pulse extraction by CWT (rigid.wavelet).
+"""Ricker pulse extraction by CWT (rigid.motions.pulse_extraction).
 
 Oracles: the direct (time-domain) correlation sum for the FFT transform; closed-form wavelet
 norms; exact recovery of synthetic pulses with w = 1/√s (signals.md §3.3, §3.7); the
@@ -14,15 +14,9 @@ from scipy.integrate import cumulative_trapezoid, trapezoid
 from scipy.signal import butter, sosfiltfilt
 
 import rigid
-from rigid.pulses import ricker, ricker_velocity
-from rigid.wavelet import (
-    WAVELET_NORM2,
-    Pulse,
-    best_pulse,
-    extract_pulse,
-    extract_pulses,
-    wavelet_transform,
-)
+from rigid.motions.cwt import WAVELET_NORM2, wavelet_transform
+from rigid.motions.pulse_extraction import Pulse, best_pulse, extract_pulse, extract_pulses
+from rigid.motions.pulses import ricker, ricker_velocity
 
 G = rigid.G
 KINDS = ("symmetric", "antisymmetric")
@@ -86,7 +80,7 @@ def test_fft_transform_equals_direct_sum(kind, source):
 
 @pytest.mark.parametrize("key", list(WAVELET_NORM2))
 def test_wavelet_norms(key):
-    # ‖ψ‖² by quadrature of rigid.pulses' own functions (a fine trapezoid on ±8 converges
+    # ‖ψ‖² by quadrature of rigid.motions.pulses' own functions (a fine trapezoid on ±8 converges
     # spectrally for Gaussians: 1e-12).
     kind, source = key
     u = np.linspace(-8, 8, 160_001)
@@ -211,8 +205,8 @@ def test_sign_scaling_and_symmetry():
 
 def test_match_indices_follow_eqs_8_and_9():
     # Paper Eqs. 8–9 recomputed with scipy's trapezoids (the integrals' quadrature in
-    # rigid.wavelet too), on a noisy record that does not end at rest: only round-off
-    # separates the two (1e-9). v_p is integrated like v_g, from the first sample.
+    # rigid.motions.pulse_extraction too), on a noisy record that does not end at rest: only
+    # round-off separates the two (1e-9). v_p is integrated like v_g, from the first sample.
     t, a, dt, _, _ = synthetic("symmetric", 1.2, seed=5, noise="broad")
     for source in SOURCES:
         p = extract_pulse(a, source=source, dt=dt)
@@ -282,7 +276,7 @@ def test_pulse_is_frozen():
 
 def test_plot_writes_png(tmp_path):
     pytest.importorskip("matplotlib")
-    from rigid.plotting_records import plot_record_pulses
+    from rigid.motions.plots import plot_record_pulses
 
     m = two_pulse_record()
     path = plot_record_pulses(m, [best_pulse(m, 1), best_pulse(m, 4)], tmp_path / "p.png")

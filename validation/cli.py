@@ -93,7 +93,7 @@ def simulate(args) -> int:
 def pulses(args) -> int:
     """Extract the best Ricker pulse of a record by each criterion of paper §4.1; plot."""
     from rigid import G, best_pulse
-    from rigid.plotting_records import plot_record_pulses
+    from rigid.motions.plots import plot_record_pulses
 
     out = _output_folder(args.out)
     motion = _record(args)
@@ -151,8 +151,8 @@ def validate(args) -> int:
 
     from rigid import G
     from validation.fem_search import FESettings
-    from validation.pipeline import Settings, run_validation
-    from validation.summary import write_report
+    from validation.report import write_report
+    from validation.run import Settings, run_validation
 
     out = _output_folder(args.out)
     motions, label = _motions(args)

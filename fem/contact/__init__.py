@@ -1,0 +1,29 @@
+"""Contact between the plates and the rigid slider: the slider's section and exact rotation
+(:mod:`fem.contact.slider`), penalty contact with Coulomb friction at the plates' boundary
+nodes (:mod:`fem.contact.nodes`) and, optionally, at the slider's vertices
+(:mod:`fem.contact.vertices`). Forces are per unit out-of-plane depth [N/m], moments [N·m/m];
+the formulation is in ``docs/theory/fem.md``, "Contact"."""
+
+from .nodes import ContactNodes, ContactResult, ContactState, assemble, evaluate, initial_state
+from .slider import BOTTOM, LEFT, RIGHT, TOP, SliderShape, body_coordinates, penetration, rotation
+from .vertices import VertexContact, add_vertices, vertex_contact
+
+__all__ = [
+    "BOTTOM",
+    "LEFT",
+    "RIGHT",
+    "TOP",
+    "ContactNodes",
+    "ContactResult",
+    "ContactState",
+    "SliderShape",
+    "VertexContact",
+    "add_vertices",
+    "assemble",
+    "body_coordinates",
+    "evaluate",
+    "initial_state",
+    "penetration",
+    "rotation",
+    "vertex_contact",
+]

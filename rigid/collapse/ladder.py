@@ -1,0 +1,499 @@
+"""Critical SA(Tb) of a record by time history: the 0.01 g scaling ladder (paper §4.2).
+
+A record is scaled so that its 5 %-damped pseudo-acceleration at the bearing's design period,
+SA(Tb = 4.5 s), steps up in equal increments (FEMA P695 style, 0.01 g in the paper) from a
+small value. The rigid model (:func:`rigid.simulate`) runs at each rung; the first rung at
+which the slider escapes (``rigid_model.md`` §9) is the *critical SA* of the record.
+
+IDA curves can resurrect (fail, then survive at a higher scale; ``signals.md`` §5.4), so the
+ladder is not bisected: every rung's outcome is kept, and rungs run after the first failure
+(``after_failure``) show resurrections. A faster search (``search="fast"``: coarse rungs, then
+the fine rungs between the last coarse survivor and the first coarse failure) is offered; it
+returns the same first failure unless a failure hides below a surviving coarse rung, which is
+exactly a resurrection across a coarse rung. ``validation/studies/critical_sa.py`` checks it
+against the full ladder on the FEMA P695 records.
+
+No trimming. Quiet leading or trailing segments are kept. Dropping even *exactly zero*
+leading samples is not exactly harmless: the untrimmed run idles at the static state, which
+the kernel keeps only to round-off (< 1e-9 m), and near failure the rigid model amplifies
+that (a synthetic case moved its failure time by 0.3 ms). Trailing segments can add energy.
+None of the FEMA P695 records has a zero leading or trailing sample anyway. Each run goes on
+for up to ``free`` seconds after the record (ground at rest), because a bearing still swinging
+can hit a rim or escape then, and ``simulate(stop_when_quiet=True)`` ends it as soon as no rim
+can be reached, which keeps impacts and failure exact and is where the time is saved.
+
+Cache. Finished rungs are stored one row each in ``ladders.sqlite`` (a
+:class:`rigid.tasks.ResultStore`) in the folder ``cache`` (``True``: the cache root,
+:func:`rigid.tasks.cache_root`), under the library's one key (:func:`rigid.tasks.task_key`):
+the rung, the bearing, the record's samples and dt, the ladder's start and step, the scaling
+period and damping, the simulation settings, and the code of the rigid model. Each rung is
+written as soon as it is done, so an interrupted run resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..bearing import DFPBearing
+from ..motions.spectra import pseudo_acceleration
+from ..tasks import ResultStore, cache_root, task_key
+from ..units import G
+
+__all__ = ["CriticalSA", "Rung", "as_record", "check_ladder", "coarse_scan", "critical_sa",
+           "critical_sas", "fast_search", "record_ladder"]
+
+_SEARCHES = ("full", "fast")
+
+
+@dataclass(frozen=True)
+class Rung:
+    """Outcome of the rigid model at one rung of the scaling ladder.
+
+    Attributes
+    ----------
+    index : int
+        Rung number j; the target is SA = start + j·step.
+    sa : float [m/s²]
+        Target SA(Tb) of the scaled record.
+    scale : float [-]
+        Factor applied to the record.
+    failed : bool
+        Physical failure (the slider escaped over a rim).
+    numerical_failure : bool
+        The integration stayed unstable after three step halvings; not counted as failure.
+    failure_time : float or None [s]
+        From the record's first sample.
+    impacts : int
+        Number of rim impacts.
+    max_impact_velocity : float [m/s]
+        Largest |relative velocity| at a rim impact (0 without impact).
+    max_uplift : float [m]
+        Largest separation of a slider face from its dish.
+    """
+
+    index: int
+    sa: float
+    scale: float
+    failed: bool
+    numerical_failure: bool
+    failure_time: float | None
+    impacts: int
+    max_impact_velocity: float
+    max_uplift: float
+
+
+@dataclass(frozen=True)
+class CriticalSA:
+    """Critical SA(Tb) of one record and the ladder that found it.
+
+    Attributes
+    ----------
+    sa : float or None [m/s²]
+        SA(Tb) of the first failing rung; None if no rung up to ``stop`` failed.
+    scale : float or None [-]
+        Record scale factor at that rung.
+    name : str
+        Record name.
+    record_sa : float [m/s²]
+        SA(Tb) of the record as given (unscaled).
+    period : float [s]
+        Tb, the scaling period.
+    start, step, stop : float [m/s²]
+        The ladder: rungs at start + j·step ≤ stop.
+    search : {"full", "fast"}
+    rungs : tuple of Rung
+        Every rung run, in increasing SA.
+    cpu_seconds : float [s]
+        Processor time spent simulating in this call (cached rungs cost nothing).
+    """
+
+    sa: float | None
+    scale: float | None
+    name: str
+    record_sa: float
+    period: float
+    start: float
+    step: float
+    stop: float
+    search: str
+    rungs: tuple
+    cpu_seconds: float = 0.0
+
+    @property
+    def failed(self) -> bool:
+        """A failure was found within the ladder."""
+        return self.sa is not None
+
+    @property
+    def resurrections(self) -> tuple:
+        """Rungs that did not fail although a lower rung did (Vamvatsikos & Cornell 2002)."""
+        if self.sa is None:
+            return ()
+        return tuple(r for r in self.rungs if r.sa > self.sa and not r.failed)
+
+    @property
+    def resurrected(self) -> bool:
+        """True when at least one rung above the critical one survived."""
+        return bool(self.resurrections)
+
+    @property
+    def numerical_failures(self) -> tuple:
+        """Rungs whose integration stayed unstable (outcome unknown)."""
+        return tuple(r for r in self.rungs if r.numerical_failure)
+
+    def table(self) -> dict:
+        """The ladder as columns: sa [m/s²], scale, failed, impacts, velocity [m/s], uplift [m]."""
+        return {
+            "sa": np.array([r.sa for r in self.rungs]),
+            "scale": np.array([r.scale for r in self.rungs]),
+            "failed": np.array([r.failed for r in self.rungs]),
+            "numerical_failure": np.array([r.numerical_failure for r in self.rungs]),
+            "impacts": np.array([r.impacts for r in self.rungs]),
+            "max_impact_velocity": np.array([r.max_impact_velocity for r in self.rungs]),
+            "max_uplift": np.array([r.max_uplift for r in self.rungs]),
+        }
+
+    def summary(self) -> str:
+        """One line for the console (SA in g)."""
+        crit = "no failure" if self.sa is None else f"critical SA {self.sa / G:.2f} g"
+        extra = ""
+        if self.resurrected:
+            extra = "; resurrections at " + ", ".join(f"{r.sa / G:.2f}" for r in self.resurrections)
+            extra += " g"
+        return f"{self.name}: {crit} ({len(self.rungs)} rungs, {self.search}){extra}"
+
+
+# --------------------------------------------------------------------------- cache
+
+
+class _Store:
+    """Rungs of one ladder in ``directory/ladders.sqlite``, one row per rung (key: the rung and
+    the ladder's inputs, :func:`rigid.tasks.task_key`), written as soon as the rung is done."""
+
+    def __init__(self, directory, ladder: dict):
+        self.ladder = ladder
+        self.db = None if directory is None else ResultStore(Path(directory) / "ladders.sqlite")
+
+    def _key(self, j: int) -> str:
+        return task_key("ladder-rung", ("rigid",), rung=j, **self.ladder)
+
+    def get(self, j: int):
+        return None if self.db is None else self.db.get(self._key(j))
+
+    def put(self, j: int, value: dict) -> None:
+        if self.db is not None:
+            self.db.put(self._key(j), "ladder-rung", value)
+
+
+# --------------------------------------------------------------------------- ladder
+
+
+def check_ladder(bearing, search, searches, step, coarse, start, stop) -> float:
+    """Check the arguments shared by the actual and the predicted ladder; return ``start``
+    [m/s²] (one ``step`` when None)."""
+    if not isinstance(bearing, DFPBearing):
+        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
+    if search not in searches:
+        raise ValueError(f"search must be one of {', '.join(searches)}, got {search!r}")
+    if not (math.isfinite(step) and step > 0):
+        raise ValueError(f"step must be a positive acceleration [m/s²], got {step!r}")
+    if int(coarse) != coarse or coarse < 1:
+        raise ValueError(f"coarse must be a positive integer, got {coarse!r}")
+    start = step if start is None else float(start)
+    if not (math.isfinite(start) and start > 0):
+        raise ValueError(f"start must be a positive acceleration [m/s²], got {start!r}")
+    if not stop >= start:
+        raise ValueError("stop must not be below start")
+    return start
+
+
+def record_ladder(acc, dt, period, damping, name, start, step, stop) -> tuple[float, int]:
+    """SA(T) of the unscaled record [m/s²] and the number of rungs start + j·step ≤ stop (to
+    1e-9 of a step) of a ladder that scales it; ValueError if the record has no SA at T.
+    Shared by the actual and the predicted ladder."""
+    record_sa = float(pseudo_acceleration(acc, dt, [period], damping)[0])
+    if not record_sa > 0:
+        raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
+    return record_sa, math.floor((stop - start) / step + 1e-9) + 1
+
+
+def as_record(motion, dt):
+    """(acceleration [m/s²], dt [s], name) of a GroundMotion, or of an array with its dt."""
+    if dt is None:
+        if not hasattr(motion, "acceleration"):
+            raise TypeError("pass a GroundMotion, or an acceleration array together with dt")
+        return np.asarray(motion.acceleration, dtype=float), float(motion.dt), motion.name
+    return np.asarray(motion, dtype=float), float(dt), "record"
+
+
+def _run_rung(bearing, acc, dt, scale, sim) -> dict:
+    from ..model import NumericalInstabilityError, simulate
+
+    sim = dict(sim)
+    duration = (acc.size - 1) * dt + sim.pop("free")
+    try:
+        r = simulate(bearing, acc * scale, dt, duration=duration, stop_at_failure=True,
+                     stop_when_quiet=True, record_every=max(1, acc.size), **sim)
+    except NumericalInstabilityError:
+        return {"failed": False, "numerical_failure": True, "failure_time": None,
+                "impacts": 0, "max_impact_velocity": float("nan"), "max_uplift": float("nan")}
+    return {
+        "failed": bool(r.failed),
+        "numerical_failure": bool(r.numerical_failure),
+        "failure_time": r.failure_time,
+        "impacts": len(r.impacts),
+        "max_impact_velocity": float(r.max_impact_velocity),
+        "max_uplift": float(r.max_uplift),
+    }
+
+
+def critical_sa(
+    bearing: DFPBearing,
+    motion,
+    step: float = 0.01 * G,
+    *,
+    start: float | None = None,
+    stop: float = 3.0 * G,
+    search: str = "full",
+    coarse: int = 10,
+    refine_ratio: float = 0.8,
+    after_failure: int = 0,
+    period: float | None = None,
+    damping: float = 0.05,
+    dt: float | None = None,
+    free: float = 20.0,
+    cache=None,
+    max_step: float | None = None,
+    impact_merge_time: float = 0.05,
+    coarse_factor: int | None = None,
+) -> CriticalSA:
+    """Critical SA(Tb) of a record: the first failing rung of a scaling ladder (paper §4.2).
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    motion : GroundMotion or array_like [m/s²]
+        The record (an array needs ``dt``).
+    step : float [m/s²]
+        Rung spacing of SA(Tb); paper: 0.01 g.
+    start : float [m/s²], optional
+        First rung; default one ``step``.
+    stop : float [m/s²]
+        Highest rung tried (default 3 g); ``sa`` is None if no rung up to it fails.
+    search : {"full", "fast"}
+        ``"full"``: every rung from ``start`` up to the first failure. ``"fast"``: every
+        ``coarse``-th rung up to the first failure, then the fine rungs of every coarse
+        interval that may hide a failure (see ``refine_ratio``), lowest first. Both return
+        the lowest failing rung they ran; they agree unless a failure hides in a coarse
+        interval whose ends both survived with slow impacts (a heuristic, not a proof).
+    coarse : int
+        Rungs per coarse step of the fast search (10 → 0.1 g with the default step).
+    refine_ratio : float [-]
+        Fast search: a coarse interval below the first failure is scanned at the fine step
+        when the larger maximum impact velocity at its two ends reaches this fraction of the
+        smallest maximum impact velocity of any failing rung run so far (failure needs a
+        fast rim impact, paper §3.1). The interval just below the first coarse failure is
+        always scanned. 0 scans every interval (the full ladder).
+    after_failure : int
+        Rungs to run above the first failure, to reveal resurrections.
+    period : float [s], optional
+        Tb of the scaling; default ``bearing.design_period`` (4.5 s).
+    damping : float [-]
+        Damping ratio of the scaling spectrum (5 %).
+    dt : float [s], optional
+        Time step when ``motion`` is an array.
+    free : float [s]
+        Longest time simulated after the record ends (ground at rest): a bearing still
+        swinging can hit a rim or escape then. Each run stops earlier once no rim can be
+        reached (``stop_when_quiet``), so this costs time only when it matters.
+    cache : None, bool, str or Path
+        Folder of the rung cache (``True``: the cache root; see the module docstring); None or
+        False disables it.
+    max_step, impact_merge_time, coarse_factor
+        Passed to :func:`rigid.simulate` (which runs with ``stop_when_quiet=True``,
+        ``stop_at_failure=True`` and ``on_instability="refine"``, for the record plus ``free``).
+
+    Returns
+    -------
+    CriticalSA
+    """
+    start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
+    if int(after_failure) != after_failure or after_failure < 0:
+        raise ValueError(f"after_failure must be a non-negative integer, got {after_failure!r}")
+    period = bearing.design_period if period is None else float(period)
+    acc, dt, name = as_record(motion, dt)
+    if acc.ndim != 1 or acc.size < 2 or not np.all(np.isfinite(acc)):
+        raise ValueError("the record must be a finite 1-D acceleration with at least 2 samples")
+
+    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
+
+    if not (math.isfinite(free) and free >= 0):
+        raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
+    sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
+           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free)}
+    if sim["max_step"] is None:
+        from ..model import DEFAULT_MAX_STEP
+
+        sim["max_step"] = DEFAULT_MAX_STEP
+    cache_dir = cache_root() if cache is True else (None if cache is False else cache)
+    store = _Store(cache_dir, {"bearing": bearing, "acceleration": acc, "dt": dt,
+                               "start": start, "step": float(step), "period": period,
+                               "damping": float(damping), "simulate": sim})
+
+    done: dict[int, Rung] = {}
+    cpu = [0.0]
+
+    def rung(j: int) -> Rung:
+        if j not in done:
+            sa = start + j * step
+            scale = sa / record_sa
+            out = store.get(j)
+            if out is None:
+                t0 = time.process_time()
+                out = _run_rung(bearing, acc, dt, scale, sim)
+                cpu[0] += time.process_time() - t0
+                store.put(j, out)
+            done[j] = Rung(index=j, sa=sa, scale=scale, **out)
+        return done[j]
+
+    first = None
+    if search == "full":
+        for j in range(n_rungs):
+            if rung(j).failed:
+                first = j
+                break
+    else:
+        first = fast_search(rung, done, n_rungs, int(coarse), float(refine_ratio))
+    if first is not None:
+        for j in range(first + 1, min(first + 1 + int(after_failure), n_rungs)):
+            rung(j)
+
+    rungs = tuple(done[j] for j in sorted(done))
+    return CriticalSA(
+        sa=None if first is None else done[first].sa,
+        scale=None if first is None else done[first].scale,
+        name=name,
+        record_sa=record_sa,
+        period=period,
+        start=start,
+        step=float(step),
+        stop=float(start + (n_rungs - 1) * step),
+        search=search,
+        rungs=rungs,
+        cpu_seconds=cpu[0],
+    )
+
+
+def coarse_scan(hit, n_rungs: int, coarse: int) -> tuple[list, int | None]:
+    """Every ``coarse``-th rung (and the last) up to the first j with ``hit(j)``: the rungs
+    run and that first hit (None if none). The first stage of the fast searches."""
+    ends = []
+    for j in range(coarse - 1, n_rungs + coarse - 1, coarse):
+        j = min(j, n_rungs - 1)
+        ends.append(j)
+        if hit(j):
+            return ends, j
+        if j == n_rungs - 1:
+            break
+    return ends, None
+
+
+def fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
+    """Index of the lowest failing rung found by the coarse-then-fine search, or None.
+
+    ``rung(j)`` runs (or looks up) rung j and returns an object with ``failed`` and
+    ``max_impact_velocity`` [m/s]; ``done`` maps the rungs run so far to those objects;
+    ``coarse`` and ``ratio`` are :func:`critical_sa`'s ``coarse`` and ``refine_ratio``."""
+    # coarse rungs run, up to the first coarse failure
+    ends, first = coarse_scan(lambda j: rung(j).failed, n_rungs, coarse)
+    if first is None:
+        return None
+
+    def speed(j):
+        v = rung(j).max_impact_velocity if j >= 0 else 0.0
+        return v if math.isfinite(v) else math.inf  # unknown (numerical failure): scan
+
+    scanned = set()
+    while True:
+        v_fail = min(speed(j) for j, r in done.items() if r.failed)
+        intervals = [(lo, hi) for lo, hi in zip([-1, *ends[:-1]], ends, strict=True)
+                     if lo < first and (lo, hi) not in scanned
+                     and max(speed(lo), speed(hi)) >= ratio * v_fail]
+        if not intervals:
+            return first
+        lo, hi = intervals[0]
+        scanned.add((lo, hi))
+        for j in range(lo + 1, min(hi, first)):
+            if rung(j).failed:
+                first = j
+                break
+
+
+# --------------------------------------------------------------------------- record sets
+
+
+def _record_task(bearing, motion, kwargs):
+    return critical_sa(bearing, motion, **kwargs)
+
+
+def pool_context():
+    """The multiprocessing context of :func:`critical_sas`'s pool (also used by the critical-SA
+    study)."""
+    import multiprocessing as mp
+
+    # numba-compiled code and fork can deadlock (threads/locks copied); prefer forkserver
+    methods = mp.get_all_start_methods()
+    return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
+
+
+def critical_sas(
+    bearing: DFPBearing,
+    motions,
+    *,
+    processes: int | None = None,
+    progress: bool = True,
+    cache=True,
+    **kwargs,
+) -> list[CriticalSA]:
+    """Critical SA of every record of a set, in parallel, with progress and a resumable cache.
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    motions : sequence of GroundMotion
+    processes : int, optional
+        Worker processes of :func:`rigid.tasks.run_tasks` (forkserver, else spawn
+        context); default ``os.cpu_count()``; 1 (or a single record) runs in this process.
+        On any exception (Ctrl-C included) the records not started are cancelled and the
+        workers terminated; finished rungs are already in the cache.
+    progress : bool
+        Show a tqdm progress bar over records (stderr).
+    cache : None, True, str or Path
+        Rung cache directory (see :func:`critical_sa`); default the user cache.
+    **kwargs
+        Passed to :func:`critical_sa` (step, stop, search, after_failure, …).
+
+    Returns
+    -------
+    list of CriticalSA
+        In the order of ``motions``.
+    """
+    from ..tasks import Task, run_tasks
+
+    motions = list(motions)
+    kwargs = {**kwargs, "cache": cache}
+    processes = (os.cpu_count() or 1) if processes is None else int(processes)
+    tasks = [Task(str(i), "critical-sa", _record_task,
+                  {"bearing": bearing, "motion": m, "kwargs": kwargs})
+             for i, m in enumerate(motions)]
+    results = run_tasks(tasks, None, workers=1 if len(motions) <= 1 else max(1, processes),
+                        progress=bool(progress), unit="record",
+                        description=f"critical SA ({bearing.pressure / 1e6:g} MPa)",
+                        start_method=pool_context().get_start_method())
+    return [results[t.key] for t in tasks]

@@ -1,0 +1,290 @@
+"""Critical SA(Tb) predicted from a record's Ricker pulse and the impact region (paper §4.2).
+
+The record is scaled up the same ladder as the time-history search (:func:`rigid.critical_sa`):
+rung j has SA(Tb) = start + j·step and scale k_j = SA_j / SA_record(Tb). The best-matching
+Ricker pulse of the record (paper §4.1) scales with it, Ap_j = k_j·|Ap|, at fixed Tp and kind.
+The first rung whose pulse (Tp, Ap_j) lies in the *impact with failure* region (2) of the impact
+region spectrum is the predicted critical SA (paper Fig. 11: 0.15 g → Ap = 0.342 g, region 1;
+0.16 g → 0.365 g, region 2; prediction 0.16 g).
+
+The region is any callable ``region(period [s], amplitude [m/s²]) → 0 | 1 | 2`` (0 no impact,
+1 impact without failure, 2 failure) for the pulse's kind; a mapping ``{kind: region}``; or an
+impact region spectrum (``xarray.Dataset`` with ``failure_boundary``) read with
+``rigid.impact.region_at``. By default (:func:`pulse_region`) the region of each (Tp, Ap) is
+found by simulating that pulse with the rigid model, which is the impact region spectrum's
+column at exactly Tp, with no interpolation between grid periods or amplitudes. The sign of
+Ap is dropped: the bearing is symmetric, so a flipped pulse gives the mirrored response.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..bearing import DFPBearing
+from ..units import G
+
+__all__ = ["PredictedSA", "PredictionRung", "predict_critical_sa", "pulse_region"]
+
+_SEARCHES = ("full", "fast", "bisect")
+
+
+@dataclass(frozen=True)
+class PredictionRung:
+    """One rung of the predicted ladder.
+
+    Attributes
+    ----------
+    index : int
+    sa : float [m/s²]
+        SA(Tb) of the scaled record.
+    scale : float [-]
+    amplitude : float [m/s²]
+        |Ap| of the scaled pulse.
+    region : int
+        0 no impact, 1 impact without failure, 2 failure (-1: the pulse's simulation was
+        numerically unstable).
+    """
+
+    index: int
+    sa: float
+    scale: float
+    amplitude: float
+    region: int
+
+
+@dataclass(frozen=True)
+class PredictedSA:
+    """Critical SA(Tb) predicted from a Ricker pulse.
+
+    Attributes
+    ----------
+    sa : float or None [m/s²]
+        SA(Tb) of the first rung whose pulse is in the failure region; None up to ``stop``.
+    scale : float or None [-]
+    pulse : rigid.Pulse
+        The pulse of the unscaled record (``pulse.scaled(scale)`` is the critical one).
+    criterion : int or None
+        Paper §4.1 criterion that chose it (None for a given pulse).
+    name : str
+    record_sa : float [m/s²]
+        SA(Tb) of the unscaled record.
+    period : float [s]
+        Tb.
+    start, step, stop : float [m/s²]
+    search : {"full", "fast"}
+    rungs : tuple of PredictionRung
+    """
+
+    sa: float | None
+    scale: float | None
+    pulse: object
+    criterion: int | None
+    name: str
+    record_sa: float
+    period: float
+    start: float
+    step: float
+    stop: float
+    search: str
+    rungs: tuple
+
+    @property
+    def frequency_ratio(self) -> float:
+        """Tb/Tp [-], the abscissa of the impact region spectrum."""
+        return self.period / self.pulse.period
+
+    @property
+    def critical_amplitude(self) -> float | None:
+        """|Ap| of the pulse at the predicted critical rung [m/s²]."""
+        return None if self.scale is None else abs(self.pulse.amplitude) * self.scale
+
+    def summary(self) -> str:
+        """One line for the console (SA in g)."""
+        crit = "no failure" if self.sa is None else f"predicted SA {self.sa / G:.2f} g"
+        p = self.pulse
+        return (f"{self.name}: {crit} (criterion {self.criterion}, {p.kind} Tp = "
+                f"{p.period:.3f} s, Ap = {abs(p.amplitude) / G:.3f} g unscaled)")
+
+
+class pulse_region:  # a callable class, named and used like a function
+    """Region of a Ricker pulse found by simulating it: ``pulse_region(bearing, kind)(Tp, Ap)``.
+
+    The pulse (paper Eq. 5 or 6) is sampled over t0 ± 3·Tp (both kinds are below 2e-7·Ap
+    there) and followed by ``free`` seconds of rest; the run stops once no rim can be reached.
+    Results are memoised per (Tp, Ap).
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    kind : {"symmetric", "antisymmetric"}
+    dt : float [s]
+        Sampling of the pulse (accuracy does not depend on it; ``rigid.simulate``).
+    free : float [s]
+        Longest time simulated after the pulse.
+    max_step : float [s], optional
+        Largest internal step of :func:`rigid.simulate` (default its own).
+    """
+
+    def __init__(self, bearing: DFPBearing, kind: str, dt: float = 0.005, free: float = 20.0,
+                 max_step: float | None = None):
+        from ..motions.pulses import KINDS
+
+        if kind not in KINDS:
+            raise ValueError(f"kind must be 'symmetric' or 'antisymmetric', got {kind!r}")
+        self.bearing, self.kind, self.dt, self.free = bearing, kind, float(dt), float(free)
+        self.max_step = max_step
+        self._memo: dict = {}
+
+    def __call__(self, period: float, amplitude: float) -> int:
+        from ..model import DEFAULT_MAX_STEP, NumericalInstabilityError, simulate
+        from ..motions.pulses import ricker
+
+        key = (float(period), abs(float(amplitude)))
+        if key not in self._memo:
+            tp, ap = key
+            n = round(6.0 * tp / self.dt) + 1
+            a = ricker(np.arange(n) * self.dt, ap, tp, self.kind, t0=3.0 * tp)  # Eqs. 5-6
+            try:
+                r = simulate(self.bearing, a, self.dt, duration=(n - 1) * self.dt + self.free,
+                             max_step=self.max_step or DEFAULT_MAX_STEP, record_every=n,
+                             on_instability="refine", stop_when_quiet=True)
+                self._memo[key] = 2 if r.failed else (1 if r.impacts else 0)
+            except NumericalInstabilityError:
+                self._memo[key] = -1
+        return self._memo[key]
+
+
+def _resolve_region(region, bearing, kind):
+    if region is None:
+        return pulse_region(bearing, kind)
+    if isinstance(region, dict):
+        if kind not in region:
+            raise ValueError(f"the region mapping has no entry for a {kind} pulse")
+        region = region[kind]
+    if hasattr(region, "data_vars") and "failure_boundary" in region.data_vars:
+        from ..impact import region_at  # an impact region spectrum (xarray.Dataset)
+
+        spectrum = region
+        return lambda tp, ap: int(region_at(spectrum, tp, ap))
+    if not callable(region):
+        raise TypeError("region must be None, a callable (period, amplitude) -> 0/1/2, "
+                        "an impact region spectrum, or a mapping of those by pulse kind")
+    return region
+
+
+def predict_critical_sa(
+    bearing: DFPBearing,
+    motion,
+    pulse=None,
+    criterion: int = 4,
+    *,
+    step: float = 0.01 * G,
+    start: float | None = None,
+    stop: float = 3.0 * G,
+    region=None,
+    search: str = "full",
+    coarse: int = 10,
+    weighting: str = "1/sqrt(s)",
+    period: float | None = None,
+    damping: float = 0.05,
+    dt: float | None = None,
+) -> PredictedSA:
+    """Predicted critical SA(Tb): the first ladder rung whose scaled pulse is in region 2.
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    motion : GroundMotion or array_like [m/s²]
+        The record (an array needs ``dt``).
+    pulse : rigid.Pulse, optional
+        The record's pulse; default :func:`rigid.best_pulse` with ``criterion``.
+    criterion : {1, 2, 3, 4}
+        Paper §4.1 selection criterion (ignored when ``pulse`` is given).
+    step, start, stop : float [m/s²]
+        The ladder of SA(Tb), as in :func:`rigid.critical_sa` (default 0.01 g steps from
+        0.01 g to 3 g).
+    region : callable, mapping, xarray.Dataset or None
+        Where (Tp, Ap) falls (module docstring); default :class:`pulse_region` (simulation).
+    search : {"full", "fast", "bisect"}
+        ``"full"``: every rung from the bottom. ``"fast"``: every ``coarse``-th rung up to the
+        first in region 2, then the fine rungs of every coarse interval with an impact
+        (region ≥ 1) at either end, lowest first (no failure without an impact).
+        ``"bisect"``: bisection over the rungs, which assumes that the failure region lies
+        above one boundary amplitude at this Tp, as an impact region spectrum draws it
+        (paper Fig. 8); about log2(rungs) region evaluations.
+    coarse : int
+        Rungs per coarse step of the fast search.
+    weighting : {"1/sqrt(s)", "1/s", "1"}
+        w(s) of the pulse extraction (paper Eq. 7).
+    period : float [s], optional
+        Tb; default ``bearing.design_period``.
+    damping : float [-]
+        Damping of the scaling spectrum.
+    dt : float [s], optional
+        Time step when ``motion`` is an array.
+
+    Returns
+    -------
+    PredictedSA
+    """
+    from .ladder import as_record, check_ladder, coarse_scan, record_ladder
+
+    start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
+    period = bearing.design_period if period is None else float(period)
+    acc, dt, name = as_record(motion, dt)
+    if pulse is None:
+        from ..motions.pulse_extraction import best_pulse
+
+        pulse = best_pulse(acc, criterion=criterion, weighting=weighting, dt=dt)
+        used = criterion
+    else:
+        used = None
+    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
+    where = _resolve_region(region, bearing, pulse.kind)
+    ap0 = abs(float(pulse.amplitude))
+    done: dict[int, PredictionRung] = {}
+
+    def rung(j: int) -> PredictionRung:
+        if j not in done:
+            sa = start + j * step
+            k = sa / record_sa
+            done[j] = PredictionRung(j, sa, k, ap0 * k, int(where(pulse.period, ap0 * k)))
+        return done[j]
+
+    first = None
+    if search == "full":
+        first = next((j for j in range(n_rungs) if rung(j).region == 2), None)
+    elif search == "bisect":
+        if rung(n_rungs - 1).region == 2:
+            lo, hi = -1, n_rungs - 1  # rung lo is below the boundary (or none), hi above
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                lo, hi = (lo, mid) if rung(mid).region == 2 else (mid, hi)
+            first = hi
+    else:
+        ends, first = coarse_scan(lambda j: rung(j).region == 2, n_rungs, coarse)
+        if first is not None:
+            for lo, hi in zip([-1, *ends[:-1]], ends, strict=True):
+                if lo >= first:
+                    break
+                if hi == ends[-1] or rung(hi).region != 0 or (lo >= 0 and rung(lo).region != 0):
+                    hit = next((j for j in range(lo + 1, hi) if rung(j).region == 2), None)
+                    if hit is not None:
+                        first = hit
+                        break
+    return PredictedSA(
+        sa=None if first is None else done[first].sa,
+        scale=None if first is None else done[first].scale,
+        pulse=pulse,
+        criterion=used,
+        name=name,
+        record_sa=record_sa,
+        period=period,
+        start=start,
+        step=float(step),
+        stop=float(start + (n_rungs - 1) * step),
+        search=search,
+        rungs=tuple(done[j] for j in sorted(done)),
+    )

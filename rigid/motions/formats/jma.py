@@ -1,0 +1,106 @@
+"""JMA strong-motion CSV files: a ``KEY= value`` header, a column line, three components."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from ...units import to_si
+from ..record import GroundMotion, RecordFormatError
+from .text import read_lines
+
+
+def read_jma_csv(path, component: str = "NS", name: str | None = None) -> GroundMotion:
+    """Read a JMA strong-motion CSV file (three components in gal).
+
+    Expected layout: header lines ``SITE CODE= …``, ``LAT.= …``, ``LON.= …``,
+    ``SAMPLING RATE= 100Hz``, ``UNIT = gal``, ``INITIAL TIME = …``, then a line naming the
+    columns (``NS,EW,UD``) and comma-separated samples.
+
+    Parameters
+    ----------
+    path : str or Path
+        File name.
+    component : str
+        Column to read: ``"NS"``, ``"EW"`` or ``"UD"`` (case ignored).
+    name : str, optional
+        Label; default ``site_component``.
+
+    Returns
+    -------
+    GroundMotion
+        Acceleration in m/s².
+    """
+    lines = read_lines(path)
+    header: dict[str, tuple[int, str]] = {}
+    columns = None
+    first_data = None
+    for i, line in enumerate(lines[:30]):
+        if "=" in line:
+            key, _, value = line.partition("=")
+            header[key.strip().upper()] = (i + 1, value.strip())
+            continue
+        tokens = [t.strip().upper() for t in line.split(",") if t.strip()]
+        if tokens and all(re.fullmatch(r"[A-Z]{2}", t) for t in tokens):
+            columns, first_data = tokens, i + 1
+            break
+    if first_data is None:
+        raise RecordFormatError(
+            path, None, "expected a column line such as 'NS,EW,UD' after the header"
+        )
+    if "SAMPLING RATE" not in header:
+        raise RecordFormatError(path, None, "missing 'SAMPLING RATE= …Hz' (no time step)")
+    line_no, text = header["SAMPLING RATE"]
+    m = re.match(r"(\d+(?:\.\d*)?)\s*Hz", text, re.IGNORECASE)
+    if not m or float(m.group(1)) <= 0:
+        raise RecordFormatError(path, line_no, f"expected 'SAMPLING RATE= 100Hz', found {text!r}")
+    dt = 1.0 / float(m.group(1))
+    line_no, units = header.get("UNIT", (None, ""))
+    unit_key = units.split("(")[0].strip()
+    try:
+        factor = to_si(unit_key)
+    except ValueError:
+        raise RecordFormatError(
+            path, line_no, f"wrong units {units!r}: expected 'UNIT = gal'"
+        ) from None
+    comp = component.strip().upper()
+    if comp not in columns:
+        raise ValueError(f"{path}: component {component!r} not in the file's columns {columns}")
+    ncol = len(columns)
+    rows = []
+    for i in range(first_data, len(lines)):
+        tokens = [t.strip() for t in lines[i].split(",")]
+        if tokens == [""]:
+            continue
+        if len(tokens) < ncol:
+            raise RecordFormatError(
+                path, i + 1, f"expected {ncol} comma-separated values, found {len(tokens)}"
+            )
+        try:
+            row = [float(t) for t in tokens[:ncol]]
+        except ValueError:
+            raise RecordFormatError(
+                path, i + 1, f"expected numbers, found {lines[i].strip()!r}"
+            ) from None
+        if not all(math.isfinite(x) for x in row):
+            raise RecordFormatError(
+                path, i + 1, f"expected finite numbers, found {lines[i].strip()!r}"
+            )
+        rows.append(row)
+    if not rows:
+        raise RecordFormatError(path, first_data + 1, "expected data rows after the column line")
+    data = np.array(rows)[:, columns.index(comp)]
+    site = header.get("SITE CODE", (0, ""))[1]
+    return GroundMotion(
+        name=name or f"{site}_{comp}".strip("_"),
+        dt=dt,
+        acceleration=data * factor,
+        event=header.get("INITIAL TIME", (0, ""))[1],
+        station=site,
+        component=comp,
+        source_units=unit_key,
+        source_file=str(path),
+        metadata={"format": "JMA CSV", **{k.lower(): v for k, (_, v) in header.items()}},
+    )

@@ -1,0 +1,92 @@
+"""Plain text records: one column (acceleration) or two (time, acceleration); the caller gives
+the units and, for one column, the time step."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ...units import to_si
+from ..record import GroundMotion, RecordFormatError
+from .text import read_lines
+
+
+def read_plain(
+    path, dt: float | None = None, units: str | None = None, name: str | None = None
+) -> GroundMotion:
+    """Read a plain text record: one column (acceleration) or two (time, acceleration).
+
+    Lines starting with ``#`` are skipped. With one column ``dt`` is required; with two the
+    time column must be uniform and gives dt (a ``dt`` given as well must agree to 1e-6
+    relative).
+
+    Parameters
+    ----------
+    path : str or Path
+        File name.
+    dt : float [s], optional
+        Time step.
+    units : str
+        Units of the values (see :data:`UNITS`), e.g. ``"g"``; required.
+    name : str, optional
+        Label; default the file's stem.
+
+    Returns
+    -------
+    GroundMotion
+    """
+    if units is None:
+        raise RecordFormatError(
+            path, None, "missing units: plain text records carry none; pass units='g', 'm/s2', …"
+        )
+    factor = to_si(units)
+    lines = read_lines(path)
+    rows, line_nos = [], []
+    for i, line in enumerate(lines):
+        text = line.split("#")[0].strip()
+        if not text:
+            continue
+        tokens = text.replace(",", " ").split()
+        try:
+            row = [float(t) for t in tokens]
+        except ValueError:
+            raise RecordFormatError(path, i + 1, f"expected numbers, found {text!r}") from None
+        if not all(math.isfinite(x) for x in row):
+            raise RecordFormatError(path, i + 1, f"expected finite numbers, found {text!r}")
+        if rows and len(row) != len(rows[0]):
+            raise RecordFormatError(
+                path, i + 1, f"expected {len(rows[0])} columns as above, found {len(row)}"
+            )
+        if len(row) not in (1, 2):
+            raise RecordFormatError(path, i + 1, f"expected 1 or 2 columns, found {len(row)}")
+        rows.append(row)
+        line_nos.append(i + 1)
+    data = np.array(rows)
+    if data.shape[1] == 2:
+        steps = np.diff(data[:, 0])
+        if steps.size == 0 or not np.all(steps > 0):
+            raise RecordFormatError(path, line_nos[0], "expected increasing times in column 1")
+        step = float(np.mean(steps))
+        bad = np.nonzero(np.abs(steps - step) > 1e-6 * step + 1e-12)[0]
+        if bad.size:
+            raise RecordFormatError(
+                path, line_nos[bad[0] + 1], f"expected a uniform time step {step:g} s"
+            )
+        if dt is not None and abs(dt - step) > 1e-6 * step:
+            raise RecordFormatError(path, line_nos[1], f"time column gives dt={step:g}, not {dt:g}")
+        dt = step
+        acc = data[:, 1]
+    else:
+        if dt is None:
+            raise RecordFormatError(path, None, "missing DT: a one-column file needs dt=… [s]")
+        acc = data[:, 0]
+    return GroundMotion(
+        name=name or Path(path).stem,
+        dt=float(dt),
+        acceleration=acc * factor,
+        source_units=units,
+        source_file=str(path),
+        metadata={"format": "plain"},
+    )

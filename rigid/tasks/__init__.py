@@ -1,0 +1,10 @@
+"""Running many simulations: a SQLite result store keyed by inputs and model code, the cache
+root, and a task runner (local process pool or a Dask cluster) that stores each result as it
+arrives, so that every long computation of the library can be resumed and audited."""
+
+from .cache import cache_root, code_hash
+from .runner import Task, default_workers, run_tasks
+from .store import ResultStore, task_key
+
+__all__ = ["ResultStore", "Task", "cache_root", "code_hash", "default_workers", "run_tasks",
+           "task_key"]

@@ -1,0 +1,77 @@
+"""Where stored results live and what their keys include besides the inputs: the code that
+computed them.
+
+One cache root for every stored result of the library (ladder rungs, impact-spectrum cells,
+meshes): ``$DFP_CACHE_DIR``, else ``$XDG_CACHE_HOME/dfp-failure``, else
+``~/.cache/dfp-failure``. A validation run keeps its own store in its output folder.
+
+Every key of a stored result (:func:`rigid.tasks.store.task_key`) includes :func:`code_hash`
+of the models the result ran, so a change to a model's code makes its old results unreachable
+instead of replaying them.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from functools import cache
+from pathlib import Path
+
+__all__ = ["MODEL_CODE", "cache_root", "code_hash"]
+
+#: The repository root (the folder holding ``rigid``, ``fem`` and ``meshes``).
+ROOT = Path(__file__).resolve().parents[2]
+
+#: The source files of each model, relative to :data:`ROOT`; a folder means every ``.py`` and
+#: ``.geo`` file below it.
+MODEL_CODE = {
+    # the rigid-body model: what rigid.simulate runs
+    "rigid": ("rigid/units.py", "rigid/bearing.py", "rigid/model.py", "rigid/_kernel.py"),
+    # the Ricker pulses of the impact-spectrum cells
+    "pulses": ("rigid/motions/pulses.py",),
+    # records, spectra, scaling and pulse extraction
+    "motions": ("rigid/motions",),
+    # ladders, predictions, trimming
+    "collapse": ("rigid/collapse",),
+    # the FE companion and its geometry
+    "fem": ("fem", "meshes"),
+}
+
+
+def cache_root() -> Path:
+    """The library's cache folder: ``$DFP_CACHE_DIR``, else ``$XDG_CACHE_HOME/dfp-failure``,
+    else ``~/.cache/dfp-failure`` (not created here)."""
+    root = os.environ.get("DFP_CACHE_DIR")
+    if root:
+        return Path(root)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "dfp-failure"
+
+
+def _files(entry: str) -> list[Path]:
+    path = ROOT / entry
+    if path.is_dir():
+        return sorted(p for p in path.rglob("*") if p.suffix in (".py", ".geo"))
+    return [path]
+
+
+@cache
+def code_hash(*models: str) -> str:
+    """SHA-256 of the source of the named models (keys of :data:`MODEL_CODE`), file names
+    included, in a fixed order.
+
+    Parameters
+    ----------
+    *models : str
+        E.g. ``code_hash("rigid", "pulses")`` for an impact-spectrum cell.
+    """
+    unknown = [m for m in models if m not in MODEL_CODE]
+    if unknown or not models:
+        raise ValueError(f"unknown model {unknown}; expected some of {sorted(MODEL_CODE)}")
+    h = hashlib.sha256()
+    for model in sorted(set(models)):
+        for entry in MODEL_CODE[model]:
+            for path in _files(entry):
+                h.update(str(path.relative_to(ROOT)).encode())
+                h.update(path.read_bytes())
+    return h.hexdigest()

@@ -1,0 +1,207 @@
+"""Run independent tasks locally (a process pool) or on a Dask cluster, storing each result as
+soon as it arrives and skipping tasks whose results are already stored.
+
+Tasks may spawn follow-up tasks from their results (a ladder of scales steps up until the first
+failure; a bisection halves its bracket), so the same loop drives searches as well as sweeps.
+It is the library's one process pool: the validation run, the impact sweeps
+(:func:`rigid.impact.sweep.run_parallel`) and the critical SA of record sets
+(:func:`rigid.collapse.critical_sas`) all go through :func:`run_tasks`; the last two cache inside
+their tasks and pass no store.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import sys
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+
+from .store import ResultStore
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit of work: ``func(**kwargs)`` must return a JSON-serialisable result.
+
+    ``func`` must be importable at module level (it is sent to other processes by name).
+    ``size`` is the task's share of the progress bar (e.g. the cells of a chunk of a sweep).
+    """
+
+    key: str
+    kind: str
+    func: Callable
+    kwargs: dict = field(default_factory=dict)
+    size: int = 1
+
+
+def _timed(func, kwargs):
+    start = time.perf_counter()
+    result = func(**kwargs)
+    return result, time.perf_counter() - start
+
+
+def default_workers() -> int:
+    """Worker processes for the local pool: the CPUs this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+class _Local:
+    """A process pool (``spawn`` by default: fork is unsafe with Numba threads); with one
+    worker, tasks run in this process instead (simplest to debug and profile)."""
+
+    def __init__(self, workers, start_method="spawn", initializer=None):
+        from concurrent.futures import ProcessPoolExecutor
+
+        self.capacity = workers
+        self.pool = None
+        if workers > 1:
+            context = multiprocessing.get_context(start_method)
+            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                                            initializer=initializer)
+
+    def submit(self, task):
+        from concurrent.futures import Future
+
+        if self.pool is not None:
+            return self.pool.submit(_timed, task.func, task.kwargs)
+        future = Future()
+        future.set_result(_timed(task.func, task.kwargs))
+        return future
+
+    def wait_one(self, futures):
+        from concurrent.futures import FIRST_COMPLETED, wait
+
+        return wait(futures, return_when=FIRST_COMPLETED).done
+
+    @staticmethod
+    def result(future):
+        return future.result()
+
+    def close(self, cancel=False):
+        if self.pool is None:
+            return
+        if cancel:  # interrupted: stop the running tasks too (an FE run takes minutes)
+            for process in list((self.pool._processes or {}).values()):
+                process.terminate()
+        self.pool.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+class _Dask:
+    def __init__(self, scheduler):
+        from dask.distributed import Client
+
+        self.own = not isinstance(scheduler, Client)
+        self.client = Client(scheduler) if self.own else scheduler
+        self.capacity = max(1, 2 * sum(self.client.nthreads().values()))
+
+    def submit(self, task):
+        return self.client.submit(_timed, task.func, task.kwargs, key=f"{task.kind}-{task.key}",
+                                  pure=False)
+
+    def wait_one(self, futures):
+        from dask.distributed import wait
+
+        return wait(list(futures), return_when="FIRST_COMPLETED").done
+
+    @staticmethod
+    def result(future):
+        return future.result()
+
+    def close(self, cancel=False):
+        if self.own:
+            self.client.close()
+
+
+def run_tasks(
+    tasks: Iterable[Task],
+    store: ResultStore | None,
+    *,
+    follow_up: Callable | None = None,
+    scheduler=None,
+    workers: int | None = None,
+    progress: bool | None = None,
+    description: str = "",
+    unit: str = "run",
+    start_method: str = "spawn",
+    initializer: Callable | None = None,
+) -> dict:
+    """Run the tasks whose results are not in ``store``; return every result by key.
+
+    On any exception (Ctrl-C included) the tasks not yet started are cancelled and the local
+    worker processes terminated; the results stored so far stay stored.
+
+    Parameters
+    ----------
+    tasks : iterable of Task
+    store : ResultStore or None
+        Results are read from it and each new one written to it at once. None: every task
+        runs and nothing is stored (for tasks that cache their own parts; their results need
+        not be JSON then).
+    follow_up : callable, optional
+        ``follow_up(task, result)`` → iterable of further tasks, called for every result
+        (stored or new), e.g. the next rung of a ladder. They run before the tasks still
+        queued, so that a chain of follow-ups (a search) proceeds while a long queue waits.
+    scheduler : str or dask.distributed.Client, optional
+        Address of a Dask scheduler, or a client: run the tasks there.
+    workers : int, optional
+        Local worker processes; default :func:`default_workers`; 1 runs in this process.
+    progress : bool, optional
+        Show a progress bar; default when standard error is a terminal.
+    description : str
+        Label of the progress bar.
+    unit : str
+        Unit of the progress bar, counted in :attr:`Task.size`.
+    start_method : str
+        :mod:`multiprocessing` start method of the local pool (not ``"fork"``: Numba).
+    initializer : callable, optional
+        Run once in each local worker process as it starts (e.g. to load compiled code).
+    """
+    from tqdm.auto import tqdm
+
+    queue = deque(tasks)
+    results = {}
+    executor = (_Dask(scheduler) if scheduler is not None
+                else _Local(workers or default_workers(), start_method, initializer))
+    progress = sys.stderr.isatty() if progress is None else progress
+    bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
+               disable=not progress, file=sys.stderr, dynamic_ncols=True)
+    in_flight = {}
+
+    def finish(task, result):
+        results[task.key] = result
+        bar.update(task.size)
+        new = list(follow_up(task, result)) if follow_up else []
+        queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
+        bar.total += sum(t.size for t in new)
+
+    try:
+        while queue or in_flight:
+            while queue and len(in_flight) < executor.capacity:
+                task = queue.popleft()
+                if task.key in results or any(t.key == task.key for t in in_flight.values()):
+                    bar.total -= task.size  # a duplicate of a task already done or running
+                    continue
+                stored = None if store is None else store.get(task.key)
+                if stored is not None:
+                    finish(task, stored)
+                else:
+                    in_flight[executor.submit(task)] = task
+            for future in executor.wait_one(in_flight):
+                task = in_flight.pop(future)
+                result, seconds = executor.result(future)
+                if store is not None:
+                    store.put(task.key, task.kind, result, seconds)
+                finish(task, result)
+    except BaseException:
+        executor.close(cancel=True)
+        raise
+    finally:
+        bar.close()
+    executor.close()
+    return results

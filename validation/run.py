@@ -1,0 +1,205 @@
+"""A validation run: critical SA by time history and its pulse-based predictions for every
+record of a set and every bearing pressure, and the FE model's critical SA searched around the
+rigid one (:mod:`validation.fem_search`), run as tasks (local processes or Dask) whose results
+are stored as they finish, then collected into tables for the report."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from rigid import DFPBearing, G
+from rigid.tasks import ResultStore, Task, run_tasks, task_key
+
+from .fem_search import FESearches, FESettings
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What a validation run computes. Accelerations in m/s².
+
+    Attributes
+    ----------
+    pressures : tuple of float [Pa]
+    criteria : tuple of int
+        Pulse selection criteria of paper §4.1 to predict with.
+    step, stop : float [m/s²]
+        Ladder of SA(Tb): 0.01 g steps (paper) up to ``stop``.
+    search : {"full", "fast"}
+        Ladder search of :func:`rigid.critical_sa`.
+    fem : FESettings or None
+        FE critical SA search (None: no FE runs).
+    fem_pressures : tuple of float [Pa], optional
+        Pressures with FE runs; default all.
+    fem_records : int, optional
+        FE runs for this many records only, the shortest ones (FE cost grows with the
+        simulated time); default all.
+    """
+
+    pressures: tuple = (60e6, 10e6)
+    criteria: tuple = (1, 2, 3, 4)
+    step: float = 0.01 * G
+    stop: float = 1.5 * G
+    search: str = "fast"
+    fem: FESettings | None = None
+    fem_pressures: tuple | None = None
+    fem_records: int | None = None
+
+    def describe(self) -> dict:
+        out = {"pressures [MPa]": [p / 1e6 for p in self.pressures],
+               "criteria": list(self.criteria), "SA step [g]": self.step / G,
+               "SA stop [g]": self.stop / G, "ladder search": self.search}
+        if self.fem is None:
+            return out | {"FE critical SA": "not run"}
+        pressures = self.fem_pressures or self.pressures
+        return out | {
+            "FE critical SA": "bracket from the rigid critical SA, then bisect to one step",
+            "FE pressures [MPa]": [p / 1e6 for p in pressures],
+            "FE records": "all" if self.fem_records is None
+            else f"the {self.fem_records} shortest",
+        } | self.fem.describe()
+
+    def fem_record_indices(self, motions) -> list[int]:
+        """Indices of the records with FE runs, in set order."""
+        if self.fem_records is None:
+            return list(range(len(motions)))
+        order = sorted(range(len(motions)),
+                       key=lambda i: (motions[i].acceleration.size - 1) * motions[i].dt)
+        return sorted(order[: self.fem_records])
+
+
+def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, step: float,
+                stop: float, search: str, cache: str | None) -> dict:
+    """Actual and predicted critical SA of one record (runs in a worker).
+
+    Parameters are plain data (the bearing as ``dataclasses.asdict``; the record's samples
+    [m/s²] and dt [s]) so that the task pickles cheaply and hashes exactly.
+    """
+    from rigid import GroundMotion, critical_sa, predict_critical_sa
+
+    b = DFPBearing(**bearing)
+    motion = GroundMotion(name=name, dt=dt, acceleration=np.asarray(acceleration, dtype=float))
+    actual = critical_sa(b, motion, step, stop=stop, search=search, cache=cache)
+    predictions = {
+        str(c): predict_critical_sa(b, motion, criterion=c, step=step, stop=stop, search=search)
+        for c in criteria
+    }
+    return {"actual": dataclasses.asdict(actual),
+            "predictions": {c: dataclasses.asdict(p) for c, p in predictions.items()}}
+
+
+def _critical_from_json(d):
+    from rigid.collapse.ladder import CriticalSA, Rung
+
+    return CriticalSA(**{**d, "rungs": tuple(Rung(**r) for r in d["rungs"])})
+
+
+def _predicted_from_json(d):
+    from rigid import Pulse
+    from rigid.collapse.predict import PredictedSA, PredictionRung
+
+    return PredictedSA(**{**d, "pulse": Pulse(**d["pulse"]),
+                          "rungs": tuple(PredictionRung(**r) for r in d["rungs"])})
+
+
+@dataclass
+class PressureResults:
+    """Results for one bearing pressure, in record order."""
+
+    bearing: DFPBearing
+    actual: list = field(default_factory=list)
+    predictions: dict = field(default_factory=dict)  # criterion → list of PredictedSA
+
+
+def _rigid_tasks(motions, settings: Settings, out: Path):
+    """The rigid record tasks and, by key, their (pressure [Pa], record index)."""
+    cache = str(out / "ladders")
+    tasks, index = [], {}
+    for pressure in settings.pressures:
+        bearing = dataclasses.asdict(DFPBearing(pressure=pressure))
+        for i, m in enumerate(motions):
+            kwargs = {"bearing": bearing, "name": m.name, "dt": m.dt,
+                      "acceleration": m.acceleration, "criteria": list(settings.criteria),
+                      "step": settings.step, "stop": settings.stop, "search": settings.search}
+            key = task_key("rigid-record", ("rigid", "motions", "collapse"), **kwargs)
+            tasks.append(Task(key, "rigid-record", record_task, {**kwargs, "cache": cache}))
+            index[key] = (pressure, i)
+    return tasks, index
+
+
+def _collect_rigid(tasks, index, results, settings) -> dict:
+    out_by_pressure = {p: PressureResults(DFPBearing(pressure=p)) for p in settings.pressures}
+    for task in tasks:
+        r = out_by_pressure[index[task.key][0]]
+        data = results[task.key]
+        r.actual.append(_critical_from_json(data["actual"]))
+        for c, p in data["predictions"].items():
+            r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
+    return out_by_pressure
+
+
+def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
+              workers: int | None = None, progress: bool | None = None) -> dict:
+    """Critical SA and predictions for every record and pressure.
+
+    Returns
+    -------
+    dict {pressure [Pa]: PressureResults}
+    """
+    tasks, index = _rigid_tasks(motions, settings, out)
+    with ResultStore(out / "results.sqlite") as store:
+        results = run_tasks(tasks, store, scheduler=scheduler, workers=workers,
+                            progress=progress, description="rigid critical SA")
+    return _collect_rigid(tasks, index, results, settings)
+
+
+def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
+                   workers: int | None = None, progress: bool | None = None,
+                   fem_runner=None):
+    """The rigid ladders and predictions, and the FE searches, in one run of tasks: a
+    record's FE search starts as soon as its rigid critical SA is known (the FE records'
+    rigid tasks are queued first), so FE runs overlap the remaining rigid work.
+
+    ``fem_runner`` replaces :func:`validation.fem_search.fem_run` (tests).
+
+    Returns
+    -------
+    (dict {pressure [Pa]: PressureResults}, dict {pressure [Pa]: list of FECritical})
+    """
+    tasks, index = _rigid_tasks(motions, settings, out)
+    targets = set()
+    if settings.fem is not None:
+        targets = {(p, i) for p in (settings.fem_pressures or settings.pressures)
+                   for i in settings.fem_record_indices(motions)}
+    first = sorted(tasks, key=lambda t: index[t.key] not in targets)  # stable
+    searches = None if settings.fem is None else FESearches(
+        settings.fem, step=settings.step, start=settings.step, stop=settings.stop,
+        **({} if fem_runner is None else {"runner": fem_runner}))
+    owners = []
+
+    def follow_up(task, result):
+        if task.kind != "rigid-record":
+            return searches.follow_up(task, result)
+        if index[task.key] not in targets:
+            return ()
+        pressure, i = index[task.key]
+        owners.append((pressure, i))
+        return (searches.add(DFPBearing(pressure=pressure), motions[i],
+                             _critical_from_json(result["actual"])),)
+
+    with ResultStore(out / "results.sqlite") as store:
+        results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
+                            workers=workers, progress=progress,
+                            description="rigid ladders and FE runs")
+    rigid_results = _collect_rigid(tasks, index, results, settings)
+    fem: dict = {}
+    if searches is not None:
+        order = {key: k for k, key in enumerate(sorted(targets, key=lambda t: (
+            settings.pressures.index(t[0]), t[1])))}
+        for owner, found in sorted(zip(owners, searches.results(), strict=True),
+                                   key=lambda x: order[x[0]]):
+            fem.setdefault(owner[0], []).append(found)
+    return rigid_results, fem
