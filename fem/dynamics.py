@@ -3,19 +3,19 @@ r"""Implicit HHT-α time integration with Newton iterations and automatic step c
 The equations of motion in the frame of the ground, for the reduced unknowns ``a`` of
 :class:`fem.system.Reduction`, are M ä + f_int(a) = f_ext(t) = g − M r a_g(t), with a lumped M,
 g the weights and r the horizontal influence vector. Each step solves the HHT-α equilibrium
-(Hilber, Hughes & Taylor 1977) with the Newmark updates (docs/theory/fem.md, Eqs. F20–F22) by
+(Hilber, Hughes & Taylor 1977) with the Newmark updates (docs/theory/finite-elements.md) by
 Newton's method on d_{n+1}, starting from the predictor d_n + Δt v_n + Δt² a_n/2 (which
 follows the slider's curved path to third order) with the tangent M/(βΔt²) + (1 + α) K_t; the
 linear solves use :class:`fem.linear.TangentSolver`, and a line search's accepted evaluation
 serves as the next iteration's.
 
-Step control (docs/theory/fem.md, "Time steps"): a step whose Newton iteration does not
-converge is retried with half the step (down to ``min_step``); a step that opens or closes a
+Step control (docs/theory/finite-elements.md, "Time steps"): a step whose Newton iteration
+does not converge is retried with half the step (down to ``min_step``); a step that opens or closes a
 rim contact while longer than ``impact_step`` is retried at ``impact_step``, which is kept while
 any rim contact is active; a step that changes the energy-balance residual by more than
 ``energy_tol`` is redone at half the size; afterwards the step doubles back to ``max_step``.
 
-Energy per unit depth is recorded every step (Eq. F23): the input work, kinetic energy,
+Energy per unit depth is recorded every step: the input work, kinetic energy,
 material work split into elastic strain energy and plastic dissipation, the penalty springs'
 energy and the friction work; their residual is HHT's algorithmic dissipation plus the
 trapezoidal error of the work sums.

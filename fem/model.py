@@ -14,8 +14,9 @@ of the ground, with the failure checks below after every accepted step.
 
 ``failure_criterion`` picks which of them ends the run and how ``failure_mode`` is labelled
 (yielding: the rim let go; uplift: the slider climbed over a rim that held). The definitions
-and why they were chosen are in ``docs/theory/fem.md`` ("Failure"); what the model found with
-them (yielding against uplift, the rims' strength, vertex contact) is in ``docs/fem.md``.
+and why they were chosen are in ``docs/theory/finite-elements.md`` ("Failure"); what the
+model found with them (yielding against uplift, the rims' strength, vertex contact) is in
+``docs/fe-companion.md``.
 """
 
 from __future__ import annotations

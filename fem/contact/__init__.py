@@ -2,7 +2,7 @@
 (:mod:`fem.contact.slider`), penalty contact with Coulomb friction at the plates' boundary
 nodes (:mod:`fem.contact.nodes`) and, optionally, at the slider's vertices
 (:mod:`fem.contact.vertices`). Forces are per unit out-of-plane depth [N/m], moments [N·m/m];
-the formulation is in ``docs/theory/fem.md``, "Contact"."""
+the formulation is in ``docs/theory/finite-elements.md``, "Contact"."""
 
 from .nodes import ContactNodes, ContactResult, ContactState, assemble, evaluate, initial_state
 from .slider import BOTTOM, LEFT, RIGHT, TOP, SliderShape, body_coordinates, penetration, rotation

@@ -1,6 +1,7 @@
 """Node-to-surface penalty contact with Coulomb friction between the plates' boundary nodes and
 the rigid slider: forces, the consistent tangent on the five local dofs (x_i, z_i, X, Z, Θ),
-the friction history and its return map (docs/theory/fem.md, "Contact"; Wriggers 2006)."""
+the friction history and its return map (docs/theory/finite-elements.md, "Contact";
+Wriggers 2006)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """The rigid slider's section in its body frame: its faces (two spherical arcs of radius R and
 two flat sides, the rigid model's slider), the exact rotation between body and global frames,
 and the depth of a point inside the section with the closest face's normal (the gap of the
-contact law; docs/theory/fem.md, "Contact")."""
+contact law; docs/theory/finite-elements.md, "Contact")."""
 
 from __future__ import annotations
 

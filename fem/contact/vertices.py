@@ -1,6 +1,7 @@
 """Frictionless penalty contact of the slider's four vertices with plate facets (the rims' inner
 faces and tops), with the full second variation of the gap in the tangent (Wriggers 2006,
-§9.1.1; docs/theory/fem.md, "Contact"). Off by default (``fem.simulate(vertex_contact=...)``)."""
+§9.1.1; docs/theory/finite-elements.md, "Contact"). Off by default
+(``fem.simulate(vertex_contact=...)``)."""
 
 from __future__ import annotations
 

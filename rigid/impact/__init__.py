@@ -1,7 +1,7 @@
 """Impact spectra of the rigid model under Ricker pulses (paper §3): impact velocity spectra,
 impact region spectra and their boundaries, the region of any pulse, and dimensionless design
 charts. Built from cached, parallel pulse sweeps (:mod:`rigid.impact.sweep`); the definitions
-are in ``docs/theory/impact.md``."""
+are in ``docs/theory/impact-spectra.md``."""
 
 from .boundaries import region_boundaries
 from .design import design_chart

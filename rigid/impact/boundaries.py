@@ -1,5 +1,6 @@
 """The two region boundaries of an impact region spectrum, Ap(Tb/Tp), found directly by
-bisection on each pulse period instead of a full grid (paper §3.2; docs/theory/impact.md)."""
+bisection on each pulse period instead of a full grid (paper §3.2;
+docs/theory/impact-spectra.md)."""
 
 from __future__ import annotations
 

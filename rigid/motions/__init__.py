@@ -2,7 +2,7 @@
 and FEMA P695 scaling, wavelet pulse extraction (paper §§3–4.1).
 
 Nothing here knows the bearing: records are plain accelerations in m/s² with their time step.
-The equations are in ``docs/theory/motions.md``.
+The equations are in ``docs/theory/ground-motions.md``.
 """
 
 from .cwt import SOURCES, WEIGHTINGS, wavelet_transform

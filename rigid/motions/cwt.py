@@ -6,7 +6,7 @@ with ψ the unit-period, unit-peak Ricker pulse (paper Eqs. 5–6) on an acceler
 its time integral Ψ(u) = ∫ψ du on a velocity record, so the scale s *is* the pulse period Tp.
 :func:`wavelet_transform` evaluates the unweighted transform for all ξ at once per scale by
 FFT correlation against the wavelet's analytic Fourier transform; the weightings w(s) and the
-wavelets' norms are here too (docs/theory/motions.md, Eqs. M9–M12).
+wavelets' norms are here too (docs/theory/ground-motions.md).
 """
 
 from __future__ import annotations
