@@ -10,9 +10,9 @@ linear solves use :class:`fem.linear.TangentSolver`, and a line search's accepte
 serves as the next iteration's.
 
 Step control (docs/theory/finite-elements.md, "Time steps"): a step whose Newton iteration
-does not converge is retried with half the step (down to ``min_step``); a step that opens or closes a
-rim contact while longer than ``impact_step`` is retried at ``impact_step``, which is kept while
-any rim contact is active; a step that changes the energy-balance residual by more than
+does not converge is retried with half the step (down to ``min_step``); a step that opens or
+closes a rim contact while longer than ``impact_step`` is retried at ``impact_step``, which is
+kept while any rim contact is active; a step that changes the energy-balance residual by more than
 ``energy_tol`` is redone at half the size; afterwards the step doubles back to ``max_step``.
 
 Energy per unit depth is recorded every step: the input work, kinetic energy,
