@@ -3,8 +3,8 @@ the rigid model, pulse by pulse.
 
 With the assumed steel rims the light bearing's FE model fails by rim yielding, never by
 uplift (``validation/studies/fem_uplift.py``). This study keeps the FE steel elastic, as the
-rigid model keeps its rims rigid, and scans Ricker pulses (both kinds, Tp = 1, 2, 3 s, Ap on a ladder)
-through both models: the FE model (coarse mesh, ``failure_criterion="escape"``) and the rigid
+rigid model keeps its rims rigid, and scans Ricker pulses (both kinds, Tp = 1, 2, 3 s, Ap on a
+ladder) through both models: the FE model (coarse mesh, ``failure_criterion="escape"``) and the rigid
 model at several coefficients of restitution e (the paper's 0.65 and higher: an elastic FE
 impact dissipates little). For every pulse it prints the lowest failing amplitude of each
 model and writes every run to a CSV, with the horizontal rebound ratio of the first rim impact
