@@ -1,14 +1,14 @@
 """Uplift of the light bearing when its rims cannot yield: FE (``plasticity=False``) against
 the rigid model, pulse by pulse.
 
-With the assumed steel rims the light bearing's FE model fails by rim yielding, never by
-uplift (``validation/studies/fem_uplift.py``). This study keeps the FE steel elastic, as the
-rigid model keeps its rims rigid, and scans Ricker pulses (both kinds, Tp = 1, 2, 3 s, Ap on a
-ladder) through both models: the FE model (coarse mesh, ``failure_criterion="escape"``) and the rigid
-model at several coefficients of restitution e (the paper's 0.65 and higher: an elastic FE
-impact dissipates little). For every pulse it prints the lowest failing amplitude of each
-model and writes every run to a CSV, with the horizontal rebound ratio of the first rim impact
-(−u̇ after / u̇ before, u the top plate relative to the bottom; both models measured alike).
+With the assumed steel rims the light bearing's FE model fails by rim yielding, never by uplift
+(``validation/studies/fem_uplift.py``). This study keeps the FE steel elastic, as the rigid model
+keeps its rims rigid, and scans Ricker pulses (both kinds, Tp = 1, 2, 3 s, Ap on a ladder) through
+both models: the FE model (coarse mesh, ``failure_criterion="escape"``) and the rigid model at
+several coefficients of restitution e (the paper's 0.65 and higher: an elastic FE impact dissipates
+little). For every pulse it prints the lowest failing amplitude of each model and writes every run
+to a CSV, with the horizontal rebound ratio of the first rim impact (−u̇ after / u̇ before, u the
+top plate relative to the bottom; both models measured alike).
 
 Run: ``OMP_NUM_THREADS=1 python -m validation.studies.fem_elastic_rims [--out DIR]`` (32 min of
 CPU, 17 min on two cores, for the default ladder 0.2–1.5 g by 0.1 g; runs go through the local
