@@ -207,13 +207,13 @@ def test_hertz_plane_strain():
 
 
 @pytest.fixture(scope="module")
-def heavy_system(tmp_path_factory):
+def heavy_system(mesh_cache):
     from fem.dfp import build_system
 
     return build_system(
         DFPBearing(),
         mesh_options={"rim_size": 0.01, "coarse_size": 0.04},
-        cache_dir=tmp_path_factory.mktemp("meshes"),
+        cache_dir=mesh_cache,
     )
 
 

@@ -52,12 +52,12 @@ def test_hht_constants():
 
 
 @pytest.fixture(scope="module")
-def frictionless(tmp_path_factory):
+def frictionless(mesh_cache):
     bearing = dataclasses.replace(DFPBearing(), friction=0.0, rim_friction=0.0)
     a = half_sine(3.0)
     result = fem.simulate(
         bearing, a, DT, max_step=0.02, mesh_options=COARSE_MESH,
-        cache_dir=tmp_path_factory.mktemp("meshes"),
+        cache_dir=mesh_cache,
     )
     return bearing, a, result
 
@@ -96,7 +96,7 @@ def test_energy_balance_frictionless(frictionless):
     assert e["kinetic"].max() > 0.5 * np.abs(e["input"]).max()
 
 
-def test_friction_dissipation(tmp_path_factory):
+def test_friction_dissipation(mesh_cache):
     """μ = 0.05: the same pulse at 1.5 m/s² (breakaway needs about μg·2R/(2R − h) =
     0.51 m/s²). While both surfaces slide, friction dissipates
     μ W · 2R/(2R − h) per metre of relative travel (the quasi-static force of
@@ -107,7 +107,7 @@ def test_friction_dissipation(tmp_path_factory):
     a = 5 * half_sine(2.0)
     res = fem.simulate(
         bearing, a, DT, max_step=0.02, mesh_options=COARSE_MESH,
-        cache_dir=tmp_path_factory.mktemp("meshes"),
+        cache_dir=mesh_cache,
     )
     assert not res.failed and not res.numerical_failure
     e = res.energy

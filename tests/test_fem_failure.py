@@ -33,22 +33,22 @@ def pulse():
 
 
 @pytest.fixture(scope="module")
-def heavy(tmp_path_factory):
-    bearing = DFPBearing(pressure=60e6)
+def heavy_run(mesh_cache, heavy):
+    bearing = heavy
     res = fem.simulate(
         bearing, pulse(), DT, max_step=0.02, mesh_options=COARSE_MESH,
-        cache_dir=tmp_path_factory.mktemp("meshes"),
+        cache_dir=mesh_cache,
     )
     return bearing, res
 
 
-def test_heavy_bearing_fails_by_rim_yielding(heavy):
+def test_heavy_bearing_fails_by_rim_yielding(heavy_run):
     """The run ends in yielding: a hinge across a rim root, that rim's root row entirely
     plastic, and the rim force at failure at most the shear capacity with the ultimate stress,
     V_u = t·f_u/√3·depth (the hinge cannot carry more), and at least half of V_p (a hinge
     cannot form under a force much below the section's capacity: the moment arm of a load at
     the root is small). The energy balance still closes to 1 %."""
-    bearing, res = heavy
+    bearing, res = heavy_run
     assert res.failed and res.failure_mode == "yielding", res.summary()
     rim = res.failure_detail.split("of the ")[1].split(" rim")[0]
     k = fem.model.RIMS.index(rim)
@@ -62,11 +62,11 @@ def test_heavy_bearing_fails_by_rim_yielding(heavy):
     assert np.abs(e["residual"]).max() <= 0.01 * np.abs(e["input"]).max()
 
 
-def test_hinge_is_at_the_rim_root(heavy):
+def test_hinge_is_at_the_rim_root(heavy_run):
     """The largest plastic strain sits at a rim root (within one element, 20 mm, of the
     re-entrant corner where the dish meets the rim's inner face) and nothing yields in the
     plates away from the rims (|x| < r_in − 50 mm)."""
-    bearing, res = heavy
+    bearing, res = heavy_run
     from skfem import Basis, ElementQuad1
 
     x, z = Basis(res.mesh, ElementQuad1(), intorder=2).global_coordinates()
@@ -80,17 +80,17 @@ def test_hinge_is_at_the_rim_root(heavy):
     assert not p[np.abs(x) < r_in - 0.05].any()
 
 
-def test_rims_reached_when_the_rigid_model_says(heavy):
+def test_rims_reached_when_the_rigid_model_says(heavy_run):
     """The FE slider reaches the rims when the rigid model's does (first contact within 2 %
     of the elapsed time: the approach is the same pendulum, checked by the period test)."""
-    bearing, res = heavy
+    bearing, res = heavy_run
     rb = rigid.simulate(bearing, pulse(), DT)
     assert rb.impacts and not rb.failed
     first = res.time[np.flatnonzero(res.rim_force.sum(axis=1) > 0)[0]]
     assert first == pytest.approx(rb.impacts[0].time, rel=0.02)
 
 
-def test_escape_criteria(tmp_path):
+def test_escape_criteria(mesh_cache):
     """The escape test on hand-made states of the coarse model (geometry from DFPBearing):
     a bottom vertex beyond the +x bottom rim's corner and above it is uplift; the same vertex
     past a corner pushed 10 mm outward and down by a hinged rim, but below the undeformed
@@ -99,7 +99,7 @@ def test_escape_criteria(tmp_path):
     from fem.model import _check_failure, _corner_nodes
 
     bearing = DFPBearing()
-    model = build_system(bearing, mesh_options=COARSE_MESH, cache_dir=tmp_path)
+    model = build_system(bearing, mesh_options=COARSE_MESH, cache_dir=mesh_cache)
     sysm = model.system
     nd = sysm.fe.basis.nodal_dofs
     corners = _corner_nodes(model.mesh, bearing)
@@ -148,8 +148,8 @@ def light_run(cache, **kwargs):
 
 
 @pytest.fixture(scope="module")
-def light_elastic(tmp_path_factory):
-    return light_run(tmp_path_factory.mktemp("meshes"), plasticity=False)
+def light_elastic(mesh_cache):
+    return light_run(mesh_cache, plasticity=False)
 
 
 def pendulum_rise(b):
@@ -172,23 +172,23 @@ def test_light_bearing_with_unyielding_rims_fails_by_uplift(light_elastic):
     assert np.abs(res.energy["residual"]).max() < 0.05 * b.weight * rise
 
 
-def test_energy_control_is_what_closes_the_uplift_balance(light_elastic, tmp_path):
+def test_energy_control_is_what_closes_the_uplift_balance(light_elastic, mesh_cache):
     """Without the energy step control (energy_tolerance=inf) the light slider rattling
     between the airborne plates makes energy out of penalty contacts that open and close
     within a step: the same run's energy error is more than 10 × larger (measured: 70 × the
     input energy against 0.8 %)."""
-    loose = light_run(tmp_path, plasticity=False, energy_tolerance=math.inf)
+    loose = light_run(mesh_cache, plasticity=False, energy_tolerance=math.inf)
     assert (np.abs(loose.energy["residual"]).max()
             > 10 * np.abs(light_elastic.energy["residual"]).max())
 
 
-def test_same_pulse_with_steel_rims_fails_by_yielding(light_elastic, tmp_path):
+def test_same_pulse_with_steel_rims_fails_by_yielding(light_elastic, mesh_cache):
     """The assumed steel rims (f_y = 345 MPa, 40 mm) cannot hold the impact that throws the
     elastic model's slider out: a hinge forms at a rim root first, before the elastic run's
     uplift (tipping needs a rim force W·b/h = 2.51 MN, the root's plastic shear capacity is
     2.50 MN; fem/model.py), and the superstructure has not been lifted off its pendulum path
     by a rim height (measured: 2.4 mm above it)."""
-    res = light_run(tmp_path)
+    res = light_run(mesh_cache)
     assert res.failed and res.failure_mode == "yielding", res.summary()
     assert res.failure_time < light_elastic.failure_time
     assert res.top_plate_rise.max() < pendulum_rise(res.bearing) + res.bearing.rim_height

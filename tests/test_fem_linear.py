@@ -22,13 +22,13 @@ from rigid.bearing import DFPBearing
 
 
 @pytest.fixture(scope="module")
-def loaded(tmp_path_factory):
+def loaded(mesh_cache):
     """A state of the coarse 60 MPa model with contact, a vertex contact and plasticity."""
     from fem.dynamics import Integrator
 
     bearing = DFPBearing(pressure=60e6)
     model = build_system(bearing, mesh_options=COARSE_MESH, vertex_contact=True,
-                         cache_dir=tmp_path_factory.mktemp("meshes"))
+                         cache_dir=mesh_cache)
     sysm = model.system
     a, state, _ = Integrator(model, lambda t: 0.0).gravity_step()
     d = model.reduction.expand(a)

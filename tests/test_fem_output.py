@@ -18,9 +18,9 @@ BEARING = DFPBearing()
 
 
 @pytest.fixture(scope="module")
-def state(tmp_path_factory):
+def state(mesh_cache):
     mesh = build_mesh(
-        BEARING, cache_dir=tmp_path_factory.mktemp("meshes"),
+        BEARING, cache_dir=mesh_cache,
         **COARSE_MESH,
     ).mesh
     fe = PlaneStrainQ1(mesh)

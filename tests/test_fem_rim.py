@@ -24,9 +24,9 @@ BEARING = DFPBearing()
 
 
 @pytest.fixture(scope="module")
-def bottom(tmp_path_factory):
+def bottom(mesh_cache):
     dfp = build_mesh(
-        BEARING, cache_dir=tmp_path_factory.mktemp("meshes"), rim_size=0.005, coarse_size=0.04
+        BEARING, cache_dir=mesh_cache, rim_size=0.005, coarse_size=0.04
     )
     m = dfp.mesh
     sub = m.restrict(np.concatenate([m.subdomains["bottom_plate"], m.subdomains["bottom_rim"]]))

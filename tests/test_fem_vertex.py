@@ -22,12 +22,12 @@ EPS_N = 2e14  # [N/m³], the order of the model's ε_N = 10 E / h_c
 
 
 @pytest.fixture(scope="module")
-def rim(tmp_path_factory):
+def rim(mesh_cache):
     """Slave nodes of the bottom plate's rims (inner faces and tops) with their facets."""
     from fem.geometry import build_mesh
 
     bearing = DFPBearing()
-    mesh = build_mesh(bearing, cache_dir=tmp_path_factory.mktemp("meshes"), **COARSE_MESH).mesh
+    mesh = build_mesh(bearing, cache_dir=mesh_cache, **COARSE_MESH).mesh
     names = ("bottom_rim_inner", "bottom_rim_top")
     nodes = C.ContactNodes.from_mesh(mesh, dict.fromkeys(names, 0.05), vertex_boundaries=names)
     return bearing, mesh, nodes
@@ -125,7 +125,7 @@ def test_vertex_tangent_against_finite_differences(rim):
     assert math.isfinite(vc.normal[1]) and vc.normal[1] > 0
 
 
-def test_rim_impact_keeps_vertices_out(tmp_path):
+def test_rim_impact_keeps_vertices_out(mesh_cache):
     """The heavy bearing driven into its rims (3 m/s² half-sine of 1 s, 1 s of it, as in
     test_fem_failure): with vertex contacts the leading vertex stays on the rim faces, its
     penetration at most the penalty's F/(ε_N ℓ₀) for the whole rim force F on the shortest
@@ -139,7 +139,7 @@ def test_rim_impact_keeps_vertices_out(tmp_path):
     t = np.arange(0.0, 2.0 + dt / 2, dt)
     a = np.where(t < 1.0, 3.0 * np.sin(np.pi * t), 0.0)
     sysm = build_system(bearing, mesh_options=COARSE_MESH, vertex_contact=True,
-                        cache_dir=tmp_path).system
+                        cache_dir=mesh_cache).system
 
     def sink(res):
         return max(
@@ -150,7 +150,7 @@ def test_rim_impact_keeps_vertices_out(tmp_path):
 
     runs = {
         on: fem.simulate(bearing, a, dt, duration=1.0, max_step=0.02, mesh_options=COARSE_MESH,
-                         snapshot_every=1, vertex_contact=on, cache_dir=tmp_path)
+                         snapshot_every=1, vertex_contact=on, cache_dir=mesh_cache)
         for on in (True, False)
     }
     held = runs[True]

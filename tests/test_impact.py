@@ -15,7 +15,6 @@ import numpy as np
 import pytest
 
 from rigid import (
-    DFPBearing,
     G,
     SweepSettings,
     design_chart,
@@ -37,8 +36,6 @@ from rigid.impact import (
 from rigid.impact.sweep import pulse_record, run_cells
 from rigid.motions.spectra import spectral_displacement
 
-LIGHT = DFPBearing(pressure=10e6)
-HEAVY = DFPBearing(pressure=60e6)
 # Tb/Tp from 0.9 (Tp = 5 s) to 4.8 in steps of 0.3: the paper's range, coarse
 RATIOS = 0.9 + 0.3 * np.arange(14)
 STEP = 0.05 * G  # amplitude step of the coarse grids and of the failure scan
@@ -52,10 +49,10 @@ def cache(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def spectra_08g(cache):
+def spectra_08g(cache, heavy, light):
     """Light and heavy bearing, Ap = 0.8 g, both kinds (paper Fig. 6)."""
     out = {}
-    for name, b in (("light", LIGHT), ("heavy", HEAVY)):
+    for name, b in (("light", light), ("heavy", heavy)):
         for kind in ("symmetric", "antisymmetric"):
             out[name, kind] = impact_velocity_spectrum(
                 b, kind, 0.8 * G, b.design_period / RATIOS, workers=1, cache=cache,
@@ -64,14 +61,14 @@ def spectra_08g(cache):
 
 
 @pytest.fixture(scope="module")
-def grid(cache):
-    return impact_region_spectrum(LIGHT, "symmetric", GRID_PERIODS, GRID_AMPS, workers=1,
+def grid(cache, light):
+    return impact_region_spectrum(light, "symmetric", GRID_PERIODS, GRID_AMPS, workers=1,
                                   cache=cache, progress=False)
 
 
 @pytest.fixture(scope="module")
-def bisected(cache, grid):  # after the grid: the scan reuses its cells
-    return region_boundaries(LIGHT, "symmetric", GRID_PERIODS, amplitude_max=GRID_AMPS[-1],
+def bisected(cache, grid, light):  # after the grid: the scan reuses its cells
+    return region_boundaries(light, "symmetric", GRID_PERIODS, amplitude_max=GRID_AMPS[-1],
                              tolerance=0.005 * G, scan_step=STEP, workers=1, cache=cache,
                              progress=False)
 
@@ -100,7 +97,7 @@ def test_light_bearing_at_08g_shows_three_regions(spectra_08g, kind):
 
 
 @pytest.mark.parametrize("kind", ["symmetric", "antisymmetric"])
-def test_heavy_bearing_same_impacts_and_also_fails(spectra_08g, kind):
+def test_heavy_bearing_same_impacts_and_also_fails(spectra_08g, kind, light):
     """60 MPa in the rigid model: before the first impact the bearing is a friction pendulum
     whose period and friction do not depend on the mass, so whether a rim is reached and the
     first impact velocity agree with 10 MPa. Tolerance on v² (v² = ω²(A² − d²) near a rim):
@@ -108,17 +105,17 @@ def test_heavy_bearing_same_impacts_and_also_fails(spectra_08g, kind):
     where first contact happens (the vertex penetrations differ, 1.13 vs 0.34 mm static),
     which matters for grazing impacts only. The rims cannot yield, so the heavy bearing also
     fails by uplift (paper §2.1: in FE it yields first)."""
-    light, heavy = spectra_08g["light", kind], spectra_08g["heavy", kind]
-    np.testing.assert_array_equal(light.region.values == 0, heavy.region.values == 0)
-    hit = light.region.values > 0
-    omega2 = (2 * math.pi / LIGHT.period) ** 2
-    np.testing.assert_allclose(heavy.impact_velocity.values[hit, 0] ** 2,
-                               light.impact_velocity.values[hit, 0] ** 2, rtol=0.01,
-                               atol=2 * omega2 * LIGHT.displacement_capacity * 1.5e-3)
-    assert np.any(heavy.region.values == 2)
+    light_ds, heavy_ds = spectra_08g["light", kind], spectra_08g["heavy", kind]
+    np.testing.assert_array_equal(light_ds.region.values == 0, heavy_ds.region.values == 0)
+    hit = light_ds.region.values > 0
+    omega2 = (2 * math.pi / light.period) ** 2
+    np.testing.assert_allclose(heavy_ds.impact_velocity.values[hit, 0] ** 2,
+                               light_ds.impact_velocity.values[hit, 0] ** 2, rtol=0.01,
+                               atol=2 * omega2 * light.displacement_capacity * 1.5e-3)
+    assert np.any(heavy_ds.region.values == 2)
 
 
-def test_no_impact_cells_have_no_impact_in_a_direct_simulation(grid):
+def test_no_impact_cells_have_no_impact_in_a_direct_simulation(grid, light):
     """Every column's highest no-impact cell (the one most at risk) and lowest impact cell
     against a plain ``simulate`` call on ``ricker_record``'s default record (lead 2·Tp, 10 s
     of free vibration, no early stop): same verdict. Exact (categorical)."""
@@ -131,7 +128,7 @@ def test_no_impact_cells_have_no_impact_in_a_direct_simulation(grid):
         assert first_hit == top_clear + 1  # monotonic column at this resolution
         for i, expect_impact in ((top_clear, False), (first_hit, True)):
             _t, a = ricker_record(GRID_AMPS[i], tp, "symmetric", dt=0.005)
-            r = simulate(LIGHT, a, 0.005, on_instability="refine")
+            r = simulate(light, a, 0.005, on_instability="refine")
             assert bool(r.impacts) is expect_impact, (tp, GRID_AMPS[i] / G)
 
 
@@ -158,13 +155,13 @@ def test_bisected_boundaries_agree_with_the_grid(grid, bisected):
     assert np.any(np.isfinite(bisected.failure_boundary.values))  # the check above bites
 
 
-def test_frictionless_peak_equals_undamped_spectral_displacement(cache):
+def test_frictionless_peak_equals_undamped_spectral_displacement(cache, light):
     """μ = 0 below the rims: the bearing is a linear pendulum of period T = bearing.period, so
     the sweep's peak displacement equals the undamped (ξ = 0) spectral displacement of the
     pulse at T, computed by the project's Nigam–Jennings code on ``ricker_record``'s longer
     record. 0.5 %: the slider's inertia and the contact compliance change T by < 0.1 %.
     Amplitudes are set so that the SDOF peak is 0.4 m, below the 0.6 m capacity."""
-    b = dataclasses.replace(LIGHT, friction=0.0, rim_friction=0.0)
+    b = dataclasses.replace(light, friction=0.0, rim_friction=0.0)
     settings = SweepSettings(stop_when_quiet=False, free=1.5 * b.period)
     cells, expected = [], []
     for kind in ("symmetric", "antisymmetric"):
@@ -179,23 +176,23 @@ def test_frictionless_peak_equals_undamped_spectral_displacement(cache):
         assert c.max_displacement == pytest.approx(e, rel=0.005)
 
 
-def test_cache_resumes_and_keys_on_every_input(tmp_path):
+def test_cache_resumes_and_keys_on_every_input(tmp_path, light):
     """An interrupted sweep (here: run on part of the grid) is completed without recomputing;
     results equal an uncached run exactly; changing the bearing or a setting misses."""
     path = tmp_path / "c.sqlite"
     periods, amps = [1.0, 1.25], [0.5 * G, 0.9 * G]
     kw = {"workers": 1, "progress": False}
-    part = impact_region_spectrum(LIGHT, "antisymmetric", periods[:1], amps, cache=path, **kw)
+    part = impact_region_spectrum(light, "antisymmetric", periods[:1], amps, cache=path, **kw)
     assert (part.attrs["cells_computed"], part.attrs["cells_reused"]) == (2, 0)
-    full = impact_region_spectrum(LIGHT, "antisymmetric", periods, amps, cache=path, **kw)
+    full = impact_region_spectrum(light, "antisymmetric", periods, amps, cache=path, **kw)
     assert (full.attrs["cells_computed"], full.attrs["cells_reused"]) == (2, 2)
-    fresh = impact_region_spectrum(LIGHT, "antisymmetric", periods, amps, cache=False, **kw)
+    fresh = impact_region_spectrum(light, "antisymmetric", periods, amps, cache=False, **kw)
     for name in ("region", "max_impact_velocity", "n_impacts", "max_uplift"):
         np.testing.assert_array_equal(full[name].values, fresh[name].values)
-    other = dataclasses.replace(LIGHT, friction=0.049)
+    other = dataclasses.replace(light, friction=0.049)
     miss = impact_region_spectrum(other, "antisymmetric", periods, amps, cache=path, **kw)
     assert miss.attrs["cells_computed"] == 4
-    miss = impact_region_spectrum(LIGHT, "antisymmetric", periods, amps, cache=path,
+    miss = impact_region_spectrum(light, "antisymmetric", periods, amps, cache=path,
                                   settings=SweepSettings(free=21.0), **kw)
     assert miss.attrs["cells_computed"] == 4
 
@@ -209,7 +206,7 @@ def _cached_cells(path):
         return store.count("impact-cell")
 
 
-def test_ctrl_c_keeps_finished_cells_and_the_rerun_computes_only_the_rest(tmp_path):
+def test_ctrl_c_keeps_finished_cells_and_the_rerun_computes_only_the_rest(tmp_path, light):
     """A sweep in another process is interrupted (SIGINT) once two cells are cached: it stops
     with KeyboardInterrupt, and the rerun computes exactly the cells that were missing."""
     import signal
@@ -234,24 +231,24 @@ def test_ctrl_c_keeps_finished_cells_and_the_rerun_computes_only_the_rest(tmp_pa
     done = _cached_cells(path)
     total = len(periods) * len(amps)
     assert 2 <= done < total
-    ds = impact_region_spectrum(LIGHT, "symmetric", periods, amps, workers=1, cache=path,
+    ds = impact_region_spectrum(light, "symmetric", periods, amps, workers=1, cache=path,
                                 progress=False)
     assert (ds.attrs["cells_computed"], ds.attrs["cells_reused"]) == (total - done, done)
 
 
-def test_process_pool_gives_the_serial_result(tmp_path):
+def test_process_pool_gives_the_serial_result(tmp_path, light):
     """Two spawned workers, no cache: identical cells (the model is deterministic)."""
     periods, amps = [1.0, 1.25, 1.5], [0.6 * G, 0.9 * G]
-    serial = impact_region_spectrum(LIGHT, "symmetric", periods, amps, workers=1,
+    serial = impact_region_spectrum(light, "symmetric", periods, amps, workers=1,
                                     cache=False, progress=False)
-    pooled = impact_region_spectrum(LIGHT, "symmetric", periods, amps, workers=2,
+    pooled = impact_region_spectrum(light, "symmetric", periods, amps, workers=2,
                                     cache=tmp_path / "p.sqlite", progress=False)
     for name in ("region", "max_impact_velocity", "n_impacts"):
         np.testing.assert_array_equal(serial[name].values, pooled[name].values)
     assert pooled.attrs["cells_computed"] == 6
 
 
-def test_netcdf_round_trip(grid, bisected, tmp_path):
+def test_netcdf_round_trip(grid, bisected, tmp_path, light):
     import xarray as xr
 
     for ds in (grid, bisected):
@@ -259,7 +256,7 @@ def test_netcdf_round_trip(grid, bisected, tmp_path):
         save_spectrum(ds, path)
         back = load_spectrum(path)
         xr.testing.assert_identical(back, ds)
-        assert bearing_from_attrs(back) == LIGHT
+        assert bearing_from_attrs(back) == light
         assert settings_from_attrs(back) == SweepSettings()
         path.unlink()
 
@@ -318,13 +315,13 @@ def test_nonmonotonic_flags_and_grid_boundaries():
     np.testing.assert_array_equal(fb, [2.5, 3.5, 1.5, np.nan, 2.5])
 
 
-def test_design_chart_collapses_without_friction(cache):
+def test_design_chart_collapses_without_friction(cache, light):
     """μ = 0: the pendulum is linear up to the rims, so impact occurs when Ap·Tp²/d_cap
     reaches Tp²/Sd(Ap = 1) (dimensional analysis), whatever the capacity. Oracle: the
     undamped spectral displacement at T = bearing.period. Tolerance: the bisection bracket
     (± 0.0005 g, as Π: 0.1–0.9 %) plus 1 % for the circular (not parabolic) dish and the rim
     contact geometry at 0.5–0.6 m (measured: 0.2–0.6 % above the oracle)."""
-    base = dataclasses.replace(LIGHT, friction=0.0, rim_friction=0.0)
+    base = dataclasses.replace(light, friction=0.0, rim_friction=0.0)
     cases = [dataclasses.replace(base, capacity=c) for c in (0.25, 0.30)]
     ratios = np.array([1.5, 3.0])
     settings = SweepSettings(free=3.0)
@@ -373,22 +370,22 @@ def test_pulse_record_is_truncated_where_the_pulse_is_negligible():
 @pytest.mark.parametrize(
     "call, error",
     [
-        (lambda: impact_region_spectrum(LIGHT, "sine", [1.0], [1.0], cache=False), "kind"),
-        (lambda: impact_region_spectrum(LIGHT, "symmetric", [-1.0], [1.0], cache=False),
+        (lambda b: impact_region_spectrum(b, "sine", [1.0], [1.0], cache=False), "kind"),
+        (lambda b: impact_region_spectrum(b, "symmetric", [-1.0], [1.0], cache=False),
          "periods"),
-        (lambda: impact_region_spectrum(LIGHT, "symmetric", [1.0], [1.0, 1.0], cache=False),
+        (lambda b: impact_region_spectrum(b, "symmetric", [1.0], [1.0, 1.0], cache=False),
          "repeat"),
-        (lambda: impact_velocity_spectrum(LIGHT, "symmetric", 0.0, [1.0], cache=False),
+        (lambda b: impact_velocity_spectrum(b, "symmetric", 0.0, [1.0], cache=False),
          "amplitude"),
-        (lambda: region_boundaries(LIGHT, "symmetric", [1.0], tolerance=0.1, scan_step=0.1,
+        (lambda b: region_boundaries(b, "symmetric", [1.0], tolerance=0.1, scan_step=0.1,
                                    cache=False), "scan_step"),
-        (lambda: SweepSettings(free=0.0), "free"),
-        (lambda: SweepSettings(half_width=0.5), "half_width"),
+        (lambda b: SweepSettings(free=0.0), "free"),
+        (lambda b: SweepSettings(half_width=0.5), "half_width"),
     ],
 )
-def test_bad_input(call, error):
+def test_bad_input(call, error, light):
     with pytest.raises(ValueError, match=error):
-        call()
+        call(light)
 
 
 def test_import_rigid_does_not_import_the_optional_packages():

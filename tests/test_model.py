@@ -13,11 +13,8 @@ from scipy import signal
 from rigid import DFPBearing, G, NumericalInstabilityError, ricker_record, simulate
 from rigid.model import DEFAULT_MAX_STEP
 
-HEAVY = DFPBearing(pressure=60e6)
-LIGHT = DFPBearing(pressure=10e6)
 
-
-@pytest.mark.parametrize("bearing", [HEAVY, LIGHT], ids=["60MPa", "10MPa"])
+@pytest.mark.parametrize("bearing", ["heavy", "light"], indirect=True)
 def test_rest_under_gravity(bearing):
     """Vertex penetration within 1 % of (W/2k)^(2/3) and no drift over 2 s.
 
@@ -32,7 +29,7 @@ def test_rest_under_gravity(bearing):
     assert not r.impacts and not r.failed
 
 
-@pytest.mark.parametrize("bearing", [HEAVY, LIGHT], ids=["60MPa", "10MPa"])
+@pytest.mark.parametrize("bearing", ["heavy", "light"], indirect=True)
 def test_free_sliding_period(bearing):
     """μ = 0, released by a small pulse: period within 0.5 % of 2π√((R1 + R2 − h)/g).
 
@@ -76,7 +73,7 @@ def _vertex_model_friction_force(b):
     return -sum(n * v[3][0] for n, v in zip(loads, vertices, strict=True) if v[0] == "B")
 
 
-@pytest.mark.parametrize("bearing", [HEAVY, LIGHT], ids=["60MPa", "10MPa"])
+@pytest.mark.parametrize("bearing", ["heavy", "light"], indirect=True)
 def test_pendulum_hysteresis_below_the_rims(bearing):
     """Base shear on each sliding branch is k·u ± F_f with k = W/R_eff and F_f ≈ μW.
 
@@ -136,13 +133,13 @@ def test_contact_law_restitution(e, mass, v0):
     assert _hertz_damped_restitution(e, mass, v0) == pytest.approx(e, abs=0.02)
 
 
-def test_energy_balance_closes_through_rim_impacts():
+def test_energy_balance_closes_through_rim_impacts(light):
     """Input = kinetic + potential + friction + impact within 1 % of the input energy.
 
     Velocity Verlet is second order; at the default step the measured residual is ~0.2 %.
     """
     _t, a = ricker_record(0.4 * G, 3.0, "antisymmetric", dt=0.005)
-    r = simulate(LIGHT, a, 0.005)
+    r = simulate(light, a, 0.005)
     assert len(r.impacts) >= 2 and not r.failed
     e = r.energy
     assert e.impact[-1] > 0 and e.friction[-1] > 0
@@ -151,8 +148,9 @@ def test_energy_balance_closes_through_rim_impacts():
 
 @pytest.mark.parametrize(
     "bearing, amplitude, period, kind",
-    [(LIGHT, 0.4, 3.0, "antisymmetric"), (HEAVY, 0.8, 3.0, "symmetric"),
-     (LIGHT, 0.8, 2.0, "symmetric")],
+    [("light", 0.4, 3.0, "antisymmetric"), ("heavy", 0.8, 3.0, "symmetric"),
+     ("light", 0.8, 2.0, "symmetric")],
+    indirect=["bearing"],
 )
 def test_halving_the_step_changes_max_impact_velocity_by_less_than_2_percent(
     bearing, amplitude, period, kind
@@ -169,8 +167,9 @@ def test_halving_the_step_changes_max_impact_velocity_by_less_than_2_percent(
 
 @pytest.mark.parametrize(
     "bearing, amplitude, period, kind",
-    [(LIGHT, 0.3, 1.0, "symmetric"), (HEAVY, 0.1, 2.0, "symmetric"),
-     (LIGHT, 0.45, 2.0, "antisymmetric"), (HEAVY, 0.5, 3.0, "symmetric")],
+    [("light", 0.3, 1.0, "symmetric"), ("heavy", 0.1, 2.0, "symmetric"),
+     ("light", 0.45, 2.0, "antisymmetric"), ("heavy", 0.5, 3.0, "symmetric")],
+    indirect=["bearing"],
 )
 def test_long_steps_away_from_the_rims_agree_with_the_fine_step(bearing, amplitude, period, kind):
     """The medium (explicit) and coarse (modified-mass) steps away from the rims against 2e-5 s
@@ -189,43 +188,43 @@ def test_long_steps_away_from_the_rims_agree_with_the_fine_step(bearing, amplitu
         assert fast.max_impact_velocity == pytest.approx(ref.max_impact_velocity, rel=0.01)
 
 
-def test_light_bearing_outcomes():
+def test_light_bearing_outcomes(light):
     """10 MPa: Ap = 0.1 g, Tp = 2 s stays clear of the rims; 0.8 g, 3 s throws the slider out."""
     _, a = ricker_record(0.1 * G, 2.0, dt=0.005)
-    small = simulate(LIGHT, a, 0.005)
+    small = simulate(light, a, 0.005)
     assert not small.impacts and not small.failed and small.max_impact_velocity == 0.0
-    assert small.max_displacement < 0.5 * LIGHT.displacement_capacity
+    assert small.max_displacement < 0.5 * light.displacement_capacity
     _t, a = ricker_record(0.8 * G, 3.0, dt=0.005)
-    strong = simulate(LIGHT, a, 0.005)
+    strong = simulate(light, a, 0.005)
     assert strong.impacts and strong.failed and strong.failure_mode == "uplift"
     assert strong.failure_time > strong.impacts[0].time
-    assert strong.max_uplift > LIGHT.rim_height  # the slider lifted above the rim
+    assert strong.max_uplift > light.rim_height  # the slider lifted above the rim
 
 
-def test_heavy_bearing_also_escapes_because_rims_cannot_yield():
+def test_heavy_bearing_also_escapes_because_rims_cannot_yield(heavy):
     """60 MPa, 0.8 g, 3 s: the rigid rims return the impact, the slider rocks out (see README)."""
     _t, a = ricker_record(0.8 * G, 3.0, dt=0.005)
-    r = simulate(HEAVY, a, 0.005)
+    r = simulate(heavy, a, 0.005)
     assert r.failed and r.failure_mode == "uplift"
     # the rim force far exceeds the plastic capacity of a 40 mm rim (f_y t² b / 4a ~ 0.1 MN)
     assert r.max_rim_force > 10e6
 
 
-def test_mirror_symmetry():
+def test_mirror_symmetry(light):
     """−a_g gives the mirrored response (before impacts the kernel is symmetric to round-off)."""
     _t, a = ricker_record(0.15 * G, 2.0, "antisymmetric", dt=0.01)
-    plus, minus = simulate(LIGHT, a, 0.01), simulate(LIGHT, -a, 0.01)
+    plus, minus = simulate(light, a, 0.01), simulate(light, -a, 0.01)
     assert np.max(np.abs(plus.displacement + minus.displacement)) < 1e-9
     assert np.max(np.abs(plus.slider_rotation + minus.slider_rotation)) < 1e-9
 
 
 @pytest.mark.parametrize("kind", ["symmetric", "antisymmetric"])
-def test_frictionless_peak_equals_undamped_spectral_displacement(kind):
+def test_frictionless_peak_equals_undamped_spectral_displacement(kind, light):
     """μ = 0, below the rims: the bearing is a linear pendulum of period T, so its peak
     displacement equals the undamped SDOF spectral displacement of the pulse, computed here
     by an independent exact method (scipy.signal.lsim, first-order hold). 0.5 %: the model
     has the slider's inertia and contact compliance, both < 0.1 % of the period."""
-    b = dataclasses.replace(LIGHT, friction=0.0, rim_friction=0.0)
+    b = dataclasses.replace(light, friction=0.0, rim_friction=0.0)
     dt = 0.005
     t, a = ricker_record(0.1 * G, 2.0, kind, dt=dt)
     r = simulate(b, a, dt)
@@ -236,7 +235,7 @@ def test_frictionless_peak_equals_undamped_spectral_displacement(kind):
     assert r.max_displacement == pytest.approx(np.max(np.abs(u)), rel=0.005)
 
 
-def test_accuracy_does_not_depend_on_record_sampling():
+def test_accuracy_does_not_depend_on_record_sampling(light):
     """The same smooth pulse sampled at 0.005 s and 0.02 s: the same first impact, to 0.5 % in
     velocity and 1 ms in time (the input's linear interpolation error is (dt²/8)·|a''|,
     about 1e-4 of Ap). Later impacts follow a rocking, uplifting slider whose details are
@@ -244,7 +243,7 @@ def test_accuracy_does_not_depend_on_record_sampling():
     runs = []
     for dt in (0.005, 0.02):
         _, a = ricker_record(0.4 * G, 3.0, "antisymmetric", dt=dt)
-        runs.append(simulate(LIGHT, a, dt))
+        runs.append(simulate(light, a, dt))
     first = [r.impacts[0] for r in runs]
     assert first[1].velocity == pytest.approx(first[0].velocity, rel=0.005)
     assert first[1].time == pytest.approx(first[0].time, abs=1e-3)
@@ -252,21 +251,21 @@ def test_accuracy_does_not_depend_on_record_sampling():
     assert runs[0].internal_step == pytest.approx(DEFAULT_MAX_STEP)
 
 
-def test_instability_is_reported_not_hidden():
+def test_instability_is_reported_not_hidden(heavy):
     """A step past the stability limit must not pass silently as a physical result."""
     _t, a = ricker_record(0.8 * G, 3.0, dt=0.005)
     with pytest.raises(NumericalInstabilityError, match="internal step"):
-        simulate(HEAVY, a, 0.005, max_step=1e-4)
+        simulate(heavy, a, 0.005, max_step=1e-4)
     with pytest.warns(RuntimeWarning):
-        reported = simulate(HEAVY, a, 0.005, max_step=1e-4, on_instability="report")
+        reported = simulate(heavy, a, 0.005, max_step=1e-4, on_instability="report")
     assert reported.numerical_failure and not reported.failed
-    refined = simulate(HEAVY, a, 0.005, max_step=1e-4, on_instability="refine")
+    refined = simulate(heavy, a, 0.005, max_step=1e-4, on_instability="refine")
     assert not refined.numerical_failure and refined.internal_step <= 2.5e-5
 
 
-def test_decimated_histories_and_duration():
+def test_decimated_histories_and_duration(light):
     _t, a = ricker_record(0.1 * G, 2.0, dt=0.01)
-    r = simulate(LIGHT, a, 0.01, record_every=10, duration=30.0)
+    r = simulate(light, a, 0.01, record_every=10, duration=30.0)
     assert r.time[1] - r.time[0] == pytest.approx(0.1)
     assert r.time[-1] == pytest.approx(30.0)
     assert r.displacement.shape == r.time.shape == r.energy.input.shape
@@ -288,9 +287,9 @@ def test_decimated_histories_and_duration():
         ([0.0, 0.0], 0.01, {"on_instability": "ignore"}, "on_instability"),
     ],
 )
-def test_bad_input(acceleration, dt, kwargs, error):
+def test_bad_input(acceleration, dt, kwargs, error, light):
     with pytest.raises(ValueError, match=error):
-        simulate(LIGHT, acceleration, dt, **kwargs)
+        simulate(light, acceleration, dt, **kwargs)
 
 
 def test_bearing_type_is_checked():

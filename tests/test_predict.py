@@ -10,18 +10,17 @@ import math
 import numpy as np
 import pytest
 
-from rigid import DFPBearing, G, Pulse, pseudo_acceleration, ricker_record
+from rigid import G, Pulse, pseudo_acceleration, ricker_record
 from rigid.collapse.ladder import critical_sa
 from rigid.collapse.predict import predict_critical_sa, pulse_region
 
-LIGHT = DFPBearing(pressure=10e6)
 DT = 0.01
 STEP = 0.01 * G  # the paper's ladder
 
 
 @pytest.mark.parametrize("kind, period, criterion",
                          [("symmetric", 2.0, 4), ("antisymmetric", 2.5, 3)])
-def test_prediction_is_exact_for_a_pure_pulse(kind, period, criterion):
+def test_prediction_is_exact_for_a_pure_pulse(kind, period, criterion, light):
     """A record that *is* a Ricker pulse: the prediction equals the time-history critical SA
     within one 0.01 g ladder step (the issue's tolerance: the method is exact for its own
     assumptions; what remains is the pulse's resampling and the extraction's ~1e-8 error).
@@ -31,8 +30,8 @@ def test_prediction_is_exact_for_a_pure_pulse(kind, period, criterion):
     ricker(k·Ap) and survived as k·ricker(Ap), 1e-16 apart, and the 0.01 g answers were 0.62
     and 0.64 g); look at the rungs' regions before at the method; see docs/critical_sa.md."""
     _, a = ricker_record(1.0, period, kind, dt=DT, free=5.0)
-    actual = critical_sa(LIGHT, a, STEP, dt=DT)
-    pred = predict_critical_sa(LIGHT, a, criterion=criterion, step=STEP, dt=DT)
+    actual = critical_sa(light, a, STEP, dt=DT)
+    pred = predict_critical_sa(light, a, criterion=criterion, step=STEP, dt=DT)
     assert pred.pulse.kind == kind
     assert pred.pulse.period == pytest.approx(period, rel=1e-4)  # extraction: exact recovery
     assert actual.sa is not None and pred.sa is not None
@@ -48,7 +47,7 @@ def _noise(n=2000, seed=3):
     return np.random.default_rng(seed).standard_normal(n)
 
 
-def test_ladder_arithmetic_with_a_threshold_region():
+def test_ladder_arithmetic_with_a_threshold_region(light):
     """Region 2 from Ap ≥ A*: the prediction is the rung j* = ⌈(A*·SA_rec/|Ap| − start)/step⌉
     of the ladder (written here from the definition, with SA_rec from an independent call),
     the scaled pulse keeps Tp, and the amplitude scales with the record (rel 1e-12)."""
@@ -59,7 +58,7 @@ def test_ladder_arithmetic_with_a_threshold_region():
         seen.add(tp)
         return 2 if ap >= a_star else (1 if ap >= a_star / 2 else 0)
 
-    pred = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT)
+    pred = predict_critical_sa(light, acc, pulse, region=region, dt=DT)
     sa_rec = float(pseudo_acceleration(acc, DT, [4.5])[0])
     step = 0.01 * G
     j = math.ceil((a_star * sa_rec / abs(pulse.amplitude) - step) / step - 1e-9)
@@ -69,15 +68,15 @@ def test_ladder_arithmetic_with_a_threshold_region():
         assert r.amplitude == pytest.approx(abs(pulse.amplitude) * r.sa / sa_rec, rel=1e-12)
     assert pred.critical_amplitude >= a_star > pred.rungs[-2].amplitude
     assert pred.criterion is None and pred.frequency_ratio == pytest.approx(4.5 / 1.5)
-    fast = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="fast")
+    fast = predict_critical_sa(light, acc, pulse, region=region, dt=DT, search="fast")
     assert fast.sa == pred.sa and len(fast.rungs) < len(pred.rungs)
-    by_kind = predict_critical_sa(LIGHT, acc, pulse, region={"antisymmetric": region}, dt=DT)
+    by_kind = predict_critical_sa(light, acc, pulse, region={"antisymmetric": region}, dt=DT)
     assert by_kind.sa == pred.sa
-    bisect = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="bisect")
+    bisect = predict_critical_sa(light, acc, pulse, region=region, dt=DT, search="bisect")
     assert bisect.sa == pred.sa and len(bisect.rungs) <= 10  # ⌈log2 300⌉ + 1 evaluations
 
 
-def test_first_failure_of_a_non_monotone_region():
+def test_first_failure_of_a_non_monotone_region(light):
     """A failure window [A1, A2) below the main failure region: both searches stop in the
     window (the fast one scans it because its coarse ends are in the impact region)."""
     acc, pulse = _noise(), _pulse()
@@ -90,37 +89,37 @@ def test_first_failure_of_a_non_monotone_region():
             return 2
         return 1 if sa >= 0.2 else 0
 
-    full = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT)
-    fast = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="fast")
+    full = predict_critical_sa(light, acc, pulse, region=region, dt=DT)
+    fast = predict_critical_sa(light, acc, pulse, region=region, dt=DT, search="fast")
     assert full.sa / G == pytest.approx(0.42, abs=1e-9)
     assert fast.sa == full.sa
     # bisection assumes one boundary: it finds a failing rung with a survivor just below
-    bisect = predict_critical_sa(LIGHT, acc, pulse, region=region, dt=DT, search="bisect")
+    bisect = predict_critical_sa(light, acc, pulse, region=region, dt=DT, search="bisect")
     below = [r for r in bisect.rungs if r.index == round(bisect.sa / (0.01 * G)) - 2]
     assert bisect.sa / G == pytest.approx(0.42, abs=1e-9) or bisect.sa / G >= 0.9 - 1e-9
     assert below and below[0].region != 2
 
 
-def test_no_failure_up_to_stop_and_bad_region():
+def test_no_failure_up_to_stop_and_bad_region(light):
     acc, pulse = _noise(), _pulse()
-    pred = predict_critical_sa(LIGHT, acc, pulse, region=lambda tp, ap: 1, dt=DT, stop=0.2 * G)
+    pred = predict_critical_sa(light, acc, pulse, region=lambda tp, ap: 1, dt=DT, stop=0.2 * G)
     assert pred.sa is None and pred.scale is None and len(pred.rungs) == 20
     with pytest.raises(TypeError, match="region"):
-        predict_critical_sa(LIGHT, acc, pulse, region=3, dt=DT)
+        predict_critical_sa(light, acc, pulse, region=3, dt=DT)
     with pytest.raises(ValueError, match="antisymmetric"):
-        predict_critical_sa(LIGHT, acc, pulse, region={"symmetric": lambda tp, ap: 2}, dt=DT)
+        predict_critical_sa(light, acc, pulse, region={"symmetric": lambda tp, ap: 2}, dt=DT)
     with pytest.raises(ValueError, match="search"):
-        predict_critical_sa(LIGHT, acc, pulse, region=lambda tp, ap: 2, dt=DT, search="x")
+        predict_critical_sa(light, acc, pulse, region=lambda tp, ap: 2, dt=DT, search="x")
 
 
-def test_pulse_region_by_simulation():
+def test_pulse_region_by_simulation(light):
     """A 0.01 g pulse cannot reach the rims (its ground displacement is < 1 cm against 0.3 m of
     capacity): region 0; the verdict is memoised, and the sign of Ap is ignored."""
-    where = pulse_region(LIGHT, "symmetric")
+    where = pulse_region(light, "symmetric")
     assert where(2.0, 0.01 * G) == 0
     assert where(2.0, -0.01 * G) == 0 and len(where._memo) == 1
     with pytest.raises(ValueError, match="kind"):
-        pulse_region(LIGHT, "triangular")
+        pulse_region(light, "triangular")
 
 
 def _row(actual, predicted, tp):
@@ -128,7 +127,7 @@ def _row(actual, predicted, tp):
             "error_4": predicted / actual - 1 if not math.isnan(predicted) else math.nan}
 
 
-def test_table2_counts_and_figures(tmp_path):
+def test_table2_counts_and_figures(tmp_path, light):
     """Table 2 counts |error| ≤ 20 % (the boundary included), splits at Tp = 0.5 s, leaves out
     records without an actual failure and counts a missing prediction as not good; the
     Fig. 11/12 plots write PNG files."""
@@ -144,7 +143,7 @@ def test_table2_counts_and_figures(tmp_path):
     assert t == {"all": (2, 4), "long": (1, 2), "short": (1, 2)}
     assert write_csv(rows, tmp_path / "t.csv").read_text().count("\n") == 6
     acc, pulse = _noise(), _pulse()
-    pred = predict_critical_sa(LIGHT, acc, pulse, region=lambda tp, ap: 2 if ap > 9 else 1,
+    pred = predict_critical_sa(light, acc, pulse, region=lambda tp, ap: 2 if ap > 9 else 1,
                                dt=DT)
     plot_prediction(pred).savefig(tmp_path / "f11.png")
     plot_comparison(rows, 4).savefig(tmp_path / "f12.png")
