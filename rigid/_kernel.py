@@ -3,25 +3,29 @@
 Frame: X horizontal (direction of shaking), Z up, coordinates relative to the bottom plate,
 which follows the ground; every free body carries the inertial load −m·a_g in X.
 Bodies: slider (x_S, z_S, θ) and top plate with the supported mass (x_T, z_T), paper §2.
-Contacts (12 slots, each with its own hysteretic friction state):
+Contacts (12 slots, each with its own hysteretic friction state; docs/theory/rigid-body.md,
+"Contact slots"):
 
 * 0–3   slider vertices on the dish of their plate (bottom-left, bottom-right, top-left,
-        top-right vertex), reference rigid_model.md §6.3;
-* 4–7   the same vertices against the restraining rim they face (inner face or rim top);
+        top-right vertex), Eq. R22;
+* 4–7   the same vertices against the restraining rim they face (inner face or rim top),
+        Eq. R23;
 * 8–11  the rims' inner corners (bottom −x, bottom +x, top −x, top +x) against the slider's
-        sides and faces, so that a tilted slider cannot pass through a rim corner.
+        sides and faces, so that a tilted slider cannot pass through a rim corner, Eq. R24.
 
 Normal force: Hertz with the Jankowski nonlinear damper, F = kδ^1.5 + cδ̇ on approach and kδ^1.5
-on restitution, c = 2ξ√(k√δ·m_eff) (paper Eqs. 1–4). Friction: Coulomb, μF_n·Z, with Z a
-hysteretic state per contact: an elastic–perfectly-plastic tangential spring of stiffness
-μF_n/Y (the sharp limit of the Bouc–Wen law), updated by its exact return map.
+on restitution, c = 2ξ√(k√δ·m_eff) (paper Eqs. 1–4; Eqs. R15–R19). Friction: Coulomb, μF_n·Z,
+with Z a hysteretic state per contact: an elastic–perfectly-plastic tangential spring of
+stiffness μF_n/Y (the sharp limit of the Bouc–Wen law), updated by its exact return map
+(Eqs. R27–R28).
 
-Time stepping: velocity Verlet (kick–drift–kick). The contact dampers are implicit in the
-kicks (backward Euler on the 5 × 5 system M + h/2·C), because c/m_s reaches 1e5–1e6 1/s when
-the supported mass sets c; the friction state advances on the half-step slip. Far from the
-rims, with every contact near its static load, the step is a few times longer (the stiffest
-mode there, slider rocking on its vertices at ~1.7e4 rad/s at 60 MPa, allows 1.1e-4 s); near
-and at the rims the fine step resolves the impacts. The hot loop allocates nothing.
+Time stepping (docs/theory/rigid-body.md §Time steps): velocity Verlet (kick–drift–kick,
+Eq. R30). The contact dampers are implicit in the kicks (backward Euler on the 5 × 5 system
+M + h/2·C, Eqs. R31–R32), because c/m_s reaches 1e5–1e6 1/s when the supported mass sets c;
+the friction state advances on the half-step slip. Far from the rims, with every contact near
+its static load, the step is longer (Eq. R34: explicit medium steps below the stability limit
+of the contact modes, Eq. R37, or coarse steps on a modified mass, Eqs. R35–R36); near and at
+the rims the fine step resolves the impacts. The hot loop allocates nothing.
 """
 
 from __future__ import annotations
@@ -63,11 +67,13 @@ STATUS_OK, STATUS_FAILED, STATUS_NUMERICAL = 0, 1, 2
 FAIL_BOTTOM_RIM, FAIL_TOP_RIM, FAIL_CENTROID, FAIL_OVERTURN = 1, 2, 3, 4
 NUM_NAN, NUM_PENETRATION, NUM_ENERGY = 10, 11, 12
 #: energy residual, relative to the input energy, beyond which the run counts as unstable
+#: (Eq. R46)
 ENERGY_TOLERANCE = 0.05
 
 N_SLOTS = 12
 #: modified-mass factor of the coarse steps, M + β·h²·K: stable for a true contact stiffness
-#: up to 4β times the one in K (Hertz stiffens as √δ, and K is taken at the step's start)
+#: up to 4β times the one in K (Hertz stiffens as √δ, and K is taken at the step's start;
+#: Eqs. R35–R36)
 BETA = 1.0
 # work vector of the force routine: energies, forces and flags, then the damping matrix C
 A_EEL, A_CSUM, A_PFRIC, A_BFX, A_KSUM, A_C = 0, 1, 2, 3, 4, 5
@@ -87,14 +93,14 @@ def friction_state_update(z0, slip_over_y):
     tangential spring, the η → ∞ limit of the Bouc–Wen law (Cundall & Strack 1979).
 
     Z = F_t/(μF_n) grows by slip/Y while sticking and saturates at ±1 while sliding; the
-    update is the exact return map, stable at any step.
+    update is the exact return map, stable at any step (Eq. R27).
     """
     return min(1.0, max(-1.0, z0 + slip_over_y))
 
 
 @njit(cache=True)
 def damper_coefficient(sqrt_delta, k, xi, meff):
-    """Damping coefficient c = 2ξ√(k√δ·m_eff) [N·s/m], paper Eq. 3."""
+    """Damping coefficient c = 2ξ√(k√δ·m_eff) [N·s/m], paper Eq. 3 (Eq. R17)."""
     return 2.0 * xi * math.sqrt(k * sqrt_delta * meff)
 
 
@@ -103,7 +109,7 @@ def hertz_damped_force(delta, delta_rate, k, xi, meff):
     """Normal contact force of paper Eqs. 1–3 as (elastic, damper) parts [N], for δ > 0.
 
     Elastic kδ^1.5 always; damper cδ̇ only on approach (δ̇ > 0), so the force is never
-    tensile. The kernel applies the same law with the damper implicit in time.
+    tensile (Eqs. R15–R17). The kernel applies the same law with the damper implicit in time.
     """
     sd = math.sqrt(delta)
     if delta_rate > 0.0:
@@ -116,7 +122,7 @@ def _add_gtg(acc, base, c, g0, g1, g2, top):
     """Add c·GᵀG to the matrix kept in acc[base:] (upper triangle, order of ``C_INDEX``):
     the damping matrix (base A_C) or the stiffness matrix (A_K). G = [g0, g1, g2, −g0, −g1],
     the last two only for contacts with the top plate; with g = (n_x, n_z, r×n), G·v is
-    minus the approach rate. (Kept in ``acc``: a separate array made the force routine 2×
+    minus the approach rate (Eq. R31). (Kept in ``acc``: a separate array made the force routine 2×
     slower.)"""
     a0 = c * g0
     a1 = c * g1
@@ -148,22 +154,24 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
     ``gen``; into ``acc`` the elastic energy, the friction power, the bottom plate's Fx and,
     on approach, the damper c·GᵀG (implicit in the kicks); with ``stiff``, the contact's
     tangent stiffness (normal 1.5k√δ, and μF_n/Y along the tangent while sticking) into the
-    stiffness matrix. Returns the elastic normal force.
+    stiffness matrix. Returns the elastic normal force. Eqs. R25–R28 of
+    docs/theory/rigid-body.md.
     """
     rx = px - q[0]
     rz = pz - q[1]
-    # relative velocity of the slider's material point with respect to the plate
+    # relative velocity of the slider's material point with respect to the plate (Eq. R25)
     wx = v[0] - v[2] * rz - (v[3] if top else 0.0)
     wz = v[1] + v[2] * rx - (v[4] if top else 0.0)
     ddot = -(wx * nx + wz * nz)
     vt = -wx * nz + wz * nx  # tangent t = (−n_z, n_x)
     sd = math.sqrt(delta)
-    f_el = p[P_K] * delta * sd  # paper Eq. 2 (and the elastic part of Eq. 1)
-    if ddot > 0.0:  # approach: the damper of Eq. 1 with c from Eq. 3
+    f_el = p[P_K] * delta * sd  # Eq. R15 (Hertz): paper Eq. 2, the elastic part of Eq. 1
+    if ddot > 0.0:  # approach: Eqs. R16–R17 (Jankowski damper), paper Eq. 1 with c from Eq. 3
         c = damper_coefficient(sd, p[P_K], p[P_XI], meff)
         _add_gtg(acc, A_C, c, nx, nz, rx * nz - rz * nx, top)
         acc[A_CSUM] += c
-    # Coulomb friction on the elastic normal force (the damper's part is transient)
+    # Coulomb friction on the elastic normal force (the damper's part is transient):
+    # Eqs. R27–R28
     z = friction_state_update(Z[slot], vt * h / p[P_Y])
     Z[slot] = z
     if stiff:
@@ -172,7 +180,7 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
             _add_gtg(acc, A_K, mu * f_el / p[P_Y], -nz, nx, rx * nx + rz * nz, top)
         acc[A_KSUM] = 1.0
     ft = -mu * f_el * z
-    fx = f_el * nx - ft * nz
+    fx = f_el * nx - ft * nz  # Eq. R26
     fz = f_el * nz + ft * nx
     gen[0] += fx
     gen[1] += fz
@@ -182,8 +190,8 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
         gen[4] -= fz
     else:
         acc[A_BFX] -= fx
-    acc[A_EEL] += f_el * delta / 2.5
-    acc[A_PFRIC] += -ft * vt
+    acc[A_EEL] += f_el * delta / 2.5  # Eq. R20
+    acc[A_PFRIC] += -ft * vt  # Eq. R50
     return f_el
 
 
@@ -231,7 +239,7 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
             cx, cz, meff = xt, ctz, p[P_MEFF_TOP]
         else:
             cx, cz, meff = 0.0, R, p[P_MEFF_BOT]
-        # vertex on the dish (slot j); the dish continues under the rim root
+        # vertex on the dish (slot j, Eq. R22); the dish continues under the rim root
         dx = cx - px
         dz = cz - pz
         d = math.sqrt(dx * dx + dz * dz)
@@ -252,7 +260,8 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
                 off_top = True
             else:
                 off_bottom = True
-        # vertex against the rim it faces (slot 4 + j): inner face or rim top/bottom face
+        # vertex against the rim it faces (slot 4 + j, Eq. R23): inner face or rim top/bottom
+        # face
         side = 1.0 if xl >= 0.0 else -1.0
         u = side * xl - rin
         if is_top:
@@ -274,7 +283,7 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
         sep[0] = 1e9
     if off_top:
         sep[1] = 1e9
-    # rim corners against the slider's section (slots 8–11)
+    # rim corners against the slider's section (slots 8–11, Eq. R24)
     for r in range(N_RIMS):
         is_top = r >= 2
         side = 1.0 if (r % 2 == 1) else -1.0
@@ -319,7 +328,8 @@ def _failure(p, q, vert):
     """Physical failure code (0: none): the slider has escaped over a rim or overturned.
 
     Only bottom vertices are tested against bottom rims and top vertices against top rims
-    (a tilted slider's upper corners legitimately overhang the bottom rim; reference §9).
+    (a tilted slider's upper corners legitimately overhang the bottom rim; Eqs. R42–R45 of
+    docs/theory/rigid-body.md).
     """
     xs, xt, zt = q[0], q[3], q[4]
     rin = p[P_RIN]
@@ -340,15 +350,15 @@ def _failure(p, q, vert):
 @njit(cache=True)
 def _kick(p, v, gen, ag, acc, hk):
     """Half kick of velocity Verlet over hk, with the contact dampers backward-Euler:
-    (M + hk·C) v⁺ = M v + hk·F. Implicit damping keeps the step free of the damper's limit
-    (c/m_s reaches 1e5–1e6 1/s when the supported mass sets c).
+    (M + hk·C) v⁺ = M v + hk·F (Eq. R32). Implicit damping keeps the step free of the
+    damper's limit (c/m_s reaches 1e5–1e6 1/s when the supported mass sets c).
 
     On coarse steps (acc[A_KSUM] set) the mass is modified by the contacts' tangent stiffness:
-    (M + β·h²K + hk·C)(v⁺ − v) = hk·(F − C·v), h = 2hk. For a linear system this is central
-    differences on the mass M + β·h²K, stable at any step for β ≥ 1/4 (the Newmark
-    average-acceleration equivalence); it slows only the stiff contact modes, whose
+    (M + β·h²K + hk·C)(v⁺ − v) = hk·(F − C·v), h = 2hk (Eq. R35). For a linear system this is
+    central differences on the mass M + β·h²K, stable at any step for β ≥ 1/4 (the Newmark
+    average-acceleration equivalence, Eq. R36); it slows only the stiff contact modes, whose
     directions K spans, and leaves the sliding motion alone. Returns the energy the dampers
-    dissipated, hk·v⁺ᵀCv⁺ [J]."""
+    dissipated, hk·v⁺ᵀCv⁺ [J] (Eq. R33)."""
     ms, js, mt = p[P_MS], p[P_JS], p[P_M]
     f0 = gen[0] - ms * ag
     f1 = gen[1] - ms * p[P_G]
@@ -362,7 +372,8 @@ def _kick(p, v, gen, ag, acc, hk):
         v[4] += hk * f4 / mt
         return 0.0
     # M + hk·C (C's upper triangle in the order of C_INDEX), solved by an unrolled Cholesky
-    # factorisation L·Lᵀ in scalars: a 5 × 5 system in registers is ≈ 4× faster than loops
+    # factorisation L·Lᵀ in scalars: a 5 × 5 system in registers beats loops (BENCHMARKS.md,
+    # "Rigid model")
     c = acc
     a00 = ms + hk * c[A_C]
     a01 = hk * c[A_C + 1]
@@ -455,8 +466,9 @@ def _kick(p, v, gen, ag, acc, hk):
 @njit(cache=True)
 def _step_level(p, q, v, vert, dmax, rim_contact, h_medium, h_coarse):
     """Which step is safe after this one: 0 fine, 1 medium (explicit), 2 coarse (modified
-    mass). Medium needs no rim contact, the dish contacts below twice their static
-    penetration and every vertex farther from its rims than it travels in four medium steps.
+    mass); Eq. R34 of docs/theory/rigid-body.md. Medium needs no rim contact, the dish
+    contacts below twice their static penetration and every vertex farther from its rims than
+    it travels in four medium steps.
     Coarse needs the same for four coarse steps, and every vertex either seated (δ_s/4 … 2δ_s,
     so that the stiffness in the modified mass, taken at the step's start, is at least a
     quarter of the true one; see ``BETA``) or off its dish by more than it can close in two
@@ -493,7 +505,8 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     stiffness in a modified mass (see :func:`_kick`); never across a sample time. After the
     input has ended, the
     run stops once the mechanical energy is below ``quiet_energy`` [J] (0: never), when no
-    rim can be reached any more. Histories are written at the input's sampling into ``hist``
+    rim can be reached any more (Eq. R41). Energies: Eqs. R46–R51; impacts and uplift:
+    Eqs. R52–R54. Histories are written at the input's sampling into ``hist``
     (n_rec × N_CHANNELS), rim impact events into ``events`` (max_events × EVENT_FIELDS);
     ``summary`` (N_SUMMARY) gets the rest.
     """
@@ -556,6 +569,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             hist[n_rec, H_EIMP] = e_imp
             n_rec += 1
             # an explicit scheme past its stability limit creates energy: report, not hide
+            # (Eq. R46)
             e_scale = max(e_scale, abs(e_in))
             residual = e_in - (e_kin + e_pot + e_fric + e_imp)
             if status == STATUS_OK and abs(residual) > ENERGY_TOLERANCE * e_scale:
@@ -584,11 +598,11 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             ag_new = ag_in[k_in] + frac * (ag_in[k_in + 1] - ag_in[k_in])
         elif k_in == n_in - 1 and frac == 0.0:
             ag_new = ag_in[k_in]
-        # kick – drift
+        # kick – drift (Eq. R30)
         e_imp += _kick(p, v, gen, ag_old, acc, 0.5 * hs)
         for i in range(5):
             q[i] += hs * v[i]
-        # input work of the inertial loads over the step, half-step velocities
+        # input work of the inertial loads over the step, half-step velocities (Eq. R47)
         e_in -= 0.5 * (ag_old + ag_new) * (ms * v[0] + mt * v[3]) * hs
         dmax = forces(p, q, v, Z, hs, gen, acc, rimf, sep, vert, implicit)
         e_fric += acc[A_PFRIC] * hs
@@ -612,6 +626,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
                 rim_contact = True
                 if not in_contact[r]:
                     in_contact[r] = True
+                    # a new impact (Eq. R52); its velocity is the top plate's (Eq. R53)
                     if t - last_contact[r] > p[P_MERGE] and n_events < max_events:
                         events[n_events, 0] = t
                         events[n_events, 1] = r
@@ -629,7 +644,8 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             else:
                 in_contact[r] = False
         level = _step_level(p, q, v, vert, dmax, rim_contact, medium * h, coarse * h)
-        # numerical and physical failure
+        # numerical failure (docs/theory/rigid-body.md, "Failure") and physical failure
+        # (Eqs. R42–R45)
         bad = False
         for i in range(5):
             if not math.isfinite(q[i]) or not math.isfinite(v[i]):

@@ -2,8 +2,9 @@
 
 Both models (``rigid`` and ``fem``) build from a :class:`DFPBearing`. Values fixed by
 Bao & Becker (2016) are marked *paper*; the others are *assumed* because the paper's
-Figure 1 (the Japanese design values) is not available. The assumed baseline and its
-sensitivity ranges follow ``reference/rigid_model.md`` §8.
+Figure 1 (the Japanese design values) is not available. The derived geometry and masses, the
+baseline's values and the suggested sensitivity ranges are in docs/theory/rigid-body.md
+(Eqs. R1–R14).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ def jankowski_damping_ratio(restitution: float) -> float:
     Returns
     -------
     float [-]
-        ξ = 9√5 (1 − e²) / (2 e (e (9π − 16) + 16)), paper Eq. 4.
+        ξ = 9√5 (1 − e²) / (2 e (e (9π − 16) + 16)), paper Eq. 4 (Eq. R18).
     """
     e = restitution
     return 9.0 * math.sqrt(5.0) * (1.0 - e * e) / (2.0 * e * (e * (9.0 * math.pi - 16.0) + 16.0))
@@ -67,7 +68,8 @@ class DFPBearing:
     restitution : float [-]
         Coefficient of restitution e of the contact damper, paper Eq. 4. *Paper*: 0.65.
     impact_mass : {"supported", "slider"}
-        The colliding masses m1·m2/(m1 + m2) of paper Eq. 3, not given in the paper.
+        The colliding masses m1·m2/(m1 + m2) of paper Eq. 3, not given in the paper (Eq. R19
+        of docs/theory/rigid-body.md gives the reasons).
         *Assumed* ``"supported"``: the slider carries the supported mass into the bottom
         plate (m_eff = M + m_s) and the top plate hits the slider backed by the ground
         (m_eff = M), so a rim impact of the superstructure rebounds with e. ``"slider"``:
@@ -177,7 +179,7 @@ class DFPBearing:
 
     @property
     def weight(self) -> float:
-        """Supported vertical load W = p·A [N]."""
+        """Supported vertical load W = p·A [N] (Eq. R13)."""
         return self.pressure * self.slider_area
 
     @property
@@ -187,7 +189,7 @@ class DFPBearing:
 
     @property
     def slider_mass(self) -> float:
-        """Slider mass, a steel cylinder of diameter b and height h [kg]."""
+        """Slider mass, a steel cylinder of diameter b and height h [kg] (Eq. R14)."""
         return self.steel_density * self.slider_area * self.slider_height
 
     @property
@@ -199,7 +201,7 @@ class DFPBearing:
     # -- geometry -----------------------------------------------------------------------
     @property
     def face_sag(self) -> float:
-        """Bulge of a spherical slider face over its chord b, R − √(R² − b²/4) [m]."""
+        """Bulge of a spherical slider face over its chord b, R − √(R² − b²/4) [m] (Eq. R1)."""
         return self.radius - math.sqrt(self.radius**2 - self.slider_diameter**2 / 4)
 
     @property
@@ -214,12 +216,13 @@ class DFPBearing:
 
     @property
     def period(self) -> float:
-        """Small-amplitude sliding period of the rigid model, 2π√((2R − h)/g) [s]."""
+        """Small-amplitude sliding period of the rigid model, 2π√((2R − h)/g) [s] (Eq. R11)."""
         return 2 * math.pi * math.sqrt(self.effective_radius / G)
 
     @property
     def capacity_tilt(self) -> float:
-        """Slider rotation when the centroid reaches the capacity, asin(d/(R − h/2)) [rad]."""
+        """Slider rotation when the centroid reaches the capacity, asin(d/(R − h/2)) [rad]
+        (Eq. R5)."""
         return math.asin(self.capacity / (self.radius - self.slider_height / 2))
 
     @property
@@ -227,7 +230,7 @@ class DFPBearing:
         """Horizontal distance from the dish axis to the rim's inner face [m].
 
         The leading bottom vertex touches it when the centroid has travelled ``capacity``:
-        r_in = (b/2) cos φ + (R − sag) sin φ (``reference/rigid_model.md`` §8.1).
+        r_in = (b/2) cos φ + (R − sag) sin φ (docs/theory/rigid-body.md, Eq. R6).
         """
         phi = self.capacity_tilt
         half_b = 0.5 * self.slider_diameter
@@ -244,7 +247,8 @@ class DFPBearing:
 
     @property
     def rim_clearance(self) -> float:
-        """Vertical gap between the two plates' rims at rest, h − 2·z(r_in) − 2·h_r [m]."""
+        """Vertical gap between the two plates' rims at rest, h − 2·z(r_in) − 2·h_r [m]
+        (Eq. R9)."""
         return self.slider_height - 2 * self.rim_top
 
     @property
@@ -260,7 +264,7 @@ class DFPBearing:
     # -- contact --------------------------------------------------------------------------
     @property
     def damping_ratio(self) -> float:
-        """Jankowski impact damping ratio ξ(e), paper Eq. 4 [-]."""
+        """Jankowski impact damping ratio ξ(e), paper Eq. 4 [-] (Eq. R18)."""
         return jankowski_damping_ratio(self.restitution)
 
     @property

@@ -1,4 +1,5 @@
-"""Rigid-body model of the DFP bearing: :func:`simulate` and its result (paper §2)."""
+"""Rigid-body model of the DFP bearing: :func:`simulate` and its result (paper §2; the
+equations are in docs/theory/rigid-body.md)."""
 
 from __future__ import annotations
 
@@ -12,18 +13,14 @@ from . import _kernel as K
 from .bearing import DFPBearing
 from .units import G
 
-#: Default largest internal step [s]. Chosen by the step-convergence study in
-#: ``tests/test_model_convergence.py`` and BENCHMARKS.md: halving it changes the maximum impact
-#: velocity by < 2 % and the failure verdicts of the pulse tests not at all, and it is 3× below
-#: the explicit stability limit of the stiffest contact mode at 60 MPa.
+#: Default largest internal step [s], the fine step near and at the rims; chosen by a step
+#: study (docs/theory/rigid-body.md §Time steps, "Choice of the step sizes").
 DEFAULT_MAX_STEP = 2e-5
 
 #: Step far from the rims [s]: the kernel's coarse steps, with the contacts' stiffness in a
-#: modified mass M + h²K (:mod:`rigid._kernel`), which removes the explicit stability limit of
-#: the stiff contact modes (1/ω ≈ 6e-5 s) and leaves the sliding motion (period ≈ 4.4 s)
-#: resolved to < 1e-4. Twice this step made 4 of 12 rim-impact pulses unstable at 10 MPa
-#: (BENCHMARKS.md); the energy check catches such runs and ``on_instability="refine"``
-#: halves both steps.
+#: modified mass M + βh²K (Eqs. R35–R36), which removes the explicit stability limit of the
+#: stiff contact modes and leaves the sliding motion resolved; chosen by a step study
+#: (docs/theory/rigid-body.md §Time steps, "Choice of the step sizes").
 FAR_STEP = 5e-4
 
 RIM_NAMES = ("bottom -x", "bottom +x", "top -x", "top +x")
@@ -200,7 +197,8 @@ class SimulationResult:
 
 
 def kernel_parameters(bearing: DFPBearing) -> np.ndarray:
-    """Pack a bearing into the kernel's parameter vector (SI)."""
+    """Pack a bearing into the kernel's parameter vector (SI; geometry Eqs. R1–R14 of
+    docs/theory/rigid-body.md)."""
     p = np.zeros(K.N_PARAMS)
     ms, m = bearing.slider_mass, bearing.supported_mass
     p[K.P_R] = bearing.radius
@@ -220,13 +218,15 @@ def kernel_parameters(bearing: DFPBearing) -> np.ndarray:
     p[K.P_M] = m
     p[K.P_G] = G
     # m1·m2/(m1 + m2) of paper Eq. 3 for contacts with the bottom and with the top plate
+    # (Eq. R19: why the supported mass by default)
     if bearing.impact_mass == "supported":
         p[K.P_MEFF_BOT], p[K.P_MEFF_TOP] = m + ms, m
     else:
         p[K.P_MEFF_BOT], p[K.P_MEFF_TOP] = ms, ms * m / (ms + m)
     # a penetration beyond the rim thickness means the contact geometry no longer holds
     p[K.P_DMAX] = bearing.rim_thickness
-    # the coarse step needs the contacts near their static load: twice the static penetration
+    # the coarse step needs the contacts near their static load (Eq. R34): twice the static
+    # penetration
     p[K.P_DFAR] = 2.0 * _static_penetration((m + ms) * G, bearing)
     # ... and every vertex seated: at least a quarter of the smaller static penetration
     p[K.P_DNEAR] = 0.25 * _static_penetration(m * G, bearing)
@@ -234,7 +234,8 @@ def kernel_parameters(bearing: DFPBearing) -> np.ndarray:
 
 
 def _static_penetration(load: float, bearing: DFPBearing) -> float:
-    """Radial penetration δ of two vertices carrying ``load`` [N]: 2kδ^1.5·cos α = load."""
+    """Radial penetration δ of two vertices carrying ``load`` [N]: 2kδ^1.5·cos α = load
+    (Eq. R38)."""
     r, half_b, k = bearing.radius, bearing.slider_diameter / 2, bearing.contact_stiffness
     delta = (load / (2 * k)) ** (2 / 3)
     for _ in range(20):  # fixed point; cos α changes by < 1e-6 between iterations
@@ -244,7 +245,8 @@ def _static_penetration(load: float, bearing: DFPBearing) -> float:
 
 
 def static_state(bearing: DFPBearing) -> np.ndarray:
-    """Exact static equilibrium under gravity: (x_S, z_S, θ, x_T, z_T) [m, m, rad, m, m]."""
+    """Exact static equilibrium under gravity: (x_S, z_S, θ, x_T, z_T) [m, m, rad, m, m]
+    (Eq. R39)."""
     r, half_b = bearing.radius, bearing.slider_diameter / 2
     ms, m = bearing.slider_mass, bearing.supported_mass
     d_bot = _static_penetration((m + ms) * G, bearing)
@@ -259,13 +261,13 @@ def static_state(bearing: DFPBearing) -> np.ndarray:
 
 def explicit_step(bearing: DFPBearing) -> float:
     """Medium step [s] away from the rims while a contact is unsettled: 1.5/ω of the stiffest
-    mode at rest, below the explicit stability limit.
+    mode at rest, below the explicit stability limit (Eq. R37).
 
     Modes of the slider on its four vertex springs k_c = 1.5·k·√δ (linearised Hertz at the
     static penetration δ): vertical √(4k_c/m_s), rocking √(4k_c(b/2)²/J), and horizontal on
     the friction springs √(4·μ(W/2)/Y / m_s). Velocity Verlet is stable up to h·ω = 2 (the
-    dampers are implicit and do not limit the step), so 1.5 leaves a 25 % margin; at 60 MPa,
-    h·ω = 1.75 already let the energy balance of a rim-impact case drift by 2 %.
+    dampers are implicit and do not limit the step), so 1.5 leaves a 25 % margin, chosen by a
+    step study (docs/theory/rigid-body.md §Time steps).
     """
     k_c = 1.5 * bearing.contact_stiffness * math.sqrt(bearing.static_penetration)
     ms = bearing.slider_mass
@@ -278,7 +280,7 @@ def explicit_step(bearing: DFPBearing) -> float:
 
 
 def reach_energy(bearing: DFPBearing) -> float:
-    """Least gravitational energy for the slider to touch a rim [J].
+    """Least gravitational energy for the slider to touch a rim [J] (Eq. R40).
 
     One surface at its capacity with the other centred lifts the supported mass by
     (R − h/2)(1 − cos φ_cap); sliding on both surfaces lifts it more.
@@ -351,7 +353,8 @@ def simulate(
         Capacity of the impact list.
     on_instability : {"raise", "report", "refine"}
         What to do when the integration goes unstable (non-finite state, penetration beyond
-        the rim thickness, or an energy balance off by more than 5 % of the input): raise
+        the rim thickness, or an energy balance off by more than 5 % of the input, Eq. R46):
+        raise
         :class:`NumericalInstabilityError`; return a result with ``numerical_failure`` set
         (and a warning); or rerun with the step halved up to three times, then raise.
     coarse_factor : int, optional
@@ -361,7 +364,8 @@ def simulate(
         steps of 2e-5 s).
     stop_when_quiet : bool
         After the record ends, stop once the mechanical energy is below 95 % of what the
-        supported mass needs to reach a rim: no later impact or failure is possible. Impacts
+        supported mass needs to reach a rim: no later impact or failure is possible (Eqs.
+        R40–R41). Impacts
         and failure are then exact, but histories and maximum displacement end early. For
         sweeps (impact spectra, critical SA).
 
@@ -391,7 +395,7 @@ def simulate(
     hist = np.empty((n_samples + 1, K.N_CHANNELS))
     events = np.zeros((int(max_impacts), K.EVENT_FIELDS))
     summary = np.zeros(K.N_SUMMARY)
-    quiet_energy = 0.95 * reach_energy(bearing) if stop_when_quiet else 0.0
+    quiet_energy = 0.95 * reach_energy(bearing) if stop_when_quiet else 0.0  # Eq. R41
     for attempt in range(4 if on_instability == "refine" else 1):
         n_sub = max(1, math.ceil(dt / (max_step / 2**attempt) - 1e-9))
         h = dt / n_sub

@@ -65,7 +65,8 @@ def comparison_rows(actual, predictions) -> list[dict]:
 
 
 def table2(rows, criterion: int, tolerance: float = 0.2, split: float = 0.5) -> dict:
-    """Share of good predictions (|predicted/actual − 1| ≤ tolerance), paper Table 2.
+    """Share of good predictions (|predicted/actual − 1| ≤ tolerance), paper Table 2
+    (docs/theory/collapse.md, Eq. C6).
 
     Parameters
     ----------

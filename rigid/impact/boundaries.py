@@ -18,7 +18,7 @@ __all__ = ["region_boundaries"]
 
 
 def _find_transition(f, k, evals, guess, tol, a_max):
-    """Bracket [lo, hi] of the lowest transition to region ≥ k, hi − lo ≤ 2·tol.
+    """Bracket [lo, hi] of the lowest transition to region ≥ k, hi − lo ≤ 2·tol (Eqs. I11–I12).
 
     ``f(A)`` simulates (cached in ``evals``). Starts from the evaluations so far; with a
     guess, steps out from it by 2·tol, 4·tol, …; then bisects. Returns (lo, None) when no
@@ -68,7 +68,8 @@ def _find_transition(f, k, evals, guess, tol, a_max):
 
 def _scan_transition(f, k, start, step, tol, a_max):
     """Lowest transition to region ≥ k on the amplitudes j·step ≥ ``start`` (j integer, and
-    ``a_max``), then bisected to 2·tol. Returns (lo, hi) or (lo, None) if not reached."""
+    ``a_max``), then bisected to 2·tol (Eq. I13). Returns (lo, hi) or (lo, None) if not
+    reached."""
 
     def reached(a):
         r = f(a)

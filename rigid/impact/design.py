@@ -33,11 +33,12 @@ def design_chart(
 ):
     """Region boundaries of several bearings in dimensionless form.
 
-    Dimensional analysis of a pendulum of period Tb under a pulse (Tp, Ap) with a stop at the
-    displacement capacity d_cap: without friction the displacement scales with Ap·Tp², so
-    impact occurs when Π = Ap·Tp²/d_cap exceeds a function of Tb/Tp only; friction adds the
-    group μg/Ap, the rims' geometry and the mass the rest. The chart shows how far the
-    boundaries of different μ and capacities collapse on Π(Tb/Tp).
+    Dimensional analysis (docs/theory/impact-spectra.md, Eq. I14) of a pendulum of period Tb
+    under a pulse (Tp, Ap) with a stop at the displacement capacity d_cap: without friction
+    the displacement scales with Ap·Tp², so impact occurs when Π = Ap·Tp²/d_cap exceeds a
+    function of Tb/Tp only; friction adds the group μg/Ap, the rims' geometry and the mass
+    the rest. The chart shows how far the boundaries of different μ and capacities collapse
+    on Π(Tb/Tp).
 
     Parameters
     ----------

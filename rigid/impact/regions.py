@@ -1,6 +1,7 @@
 """The three regions of an impact region spectrum (paper §3.2, Fig. 8) as arrays: boundaries read
 from a grid, columns that are not monotonic in amplitude, and the region of any pulse (Tp, Ap)
-from a spectrum's boundaries (the look-up of paper §4.2)."""
+from a spectrum's boundaries (the look-up of paper §4.2); docs/theory/impact-spectra.md,
+Eqs. I8–I10."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ __all__ = ["grid_boundaries", "nonmonotonic_periods", "region_at"]
 
 
 def nonmonotonic_periods(region) -> tuple[np.ndarray, np.ndarray]:
-    """Columns whose regions are not monotonic in amplitude.
+    """Columns whose regions are not monotonic in amplitude (Eq. I9).
 
     Parameters
     ----------
@@ -40,7 +41,7 @@ def nonmonotonic_periods(region) -> tuple[np.ndarray, np.ndarray]:
 
 
 def grid_boundaries(region, amplitudes) -> tuple[np.ndarray, np.ndarray]:
-    """Region boundaries read from a grid [m/s²], one per period column.
+    """Region boundaries read from a grid [m/s²], one per period column (Eq. I8).
 
     The boundary of region k is placed midway between the first cell (lowest amplitude) whose
     region is ≥ k and the cell below it (Ap = 0, no motion, below the first row), i.e. the
@@ -67,7 +68,7 @@ def grid_boundaries(region, amplitudes) -> tuple[np.ndarray, np.ndarray]:
 def region_at(spectrum, period, amplitude):
     """Region (0, 1, 2) of a pulse (Tp, Ap) from a spectrum's boundaries.
 
-    Rule (documented interpolation): the boundaries ``impact_boundary`` and
+    Rule (documented interpolation, Eq. I10): the boundaries ``impact_boundary`` and
     ``failure_boundary`` of the two grid periods that bracket Tp are interpolated linearly in
     Tb/Tp (the paper's abscissa); the pulse is in region 2 if Ap ≥ the failure boundary, else
     in region 1 if Ap ≥ the impact boundary, else 0. A boundary that is NaN (not reached up to

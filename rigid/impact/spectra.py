@@ -163,7 +163,7 @@ def impact_velocity_spectrum(
     progress: bool | None = None,
     cache=True,
 ):
-    """Impact velocity spectrum for one pulse amplitude (paper Fig. 6).
+    """Impact velocity spectrum for one pulse amplitude (paper Fig. 6; Eq. I5).
 
     Parameters
     ----------
@@ -244,7 +244,8 @@ def impact_region_spectrum(
     progress: bool | None = None,
     cache=True,
 ):
-    """Impact region spectrum over a grid of pulse amplitudes and periods (paper Fig. 8).
+    """Impact region spectrum over a grid of pulse amplitudes and periods (paper Fig. 8;
+    Eq. I7).
 
     Parameters
     ----------

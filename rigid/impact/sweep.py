@@ -43,10 +43,11 @@ from ..motions.pulses import KINDS, ricker
 from ..tasks import ResultStore, Task, cache_root, default_workers, run_tasks, task_key
 
 #: Default half-width of the sampled pulse in units of Tp: beyond it |a| < 1e-5·Ap and the
-#: ground velocity is below 1e-5 of its peak (signals.md §2.1 closed forms).
+#: ground velocity is below 1e-5 of its peak (docs/theory/impact-spectra.md, Eqs. I1–I2).
 HALF_WIDTH = {"symmetric": 1.25, "antisymmetric": 1.6}
 
-#: Region codes of a cell (paper §3.2, Fig. 8); -1 marks a numerical failure (no verdict).
+#: Region codes of a cell (paper §3.2, Fig. 8; Eq. I3); -1 marks a numerical failure (no
+#: verdict).
 NO_IMPACT, IMPACT, FAILURE, NUMERICAL = 0, 1, 2, -1
 
 
@@ -140,7 +141,7 @@ class Cell:
 
 
 def pulse_record(kind: str, period: float, amplitude: float, settings: SweepSettings):
-    """The sampled pulse of a cell and the total simulated duration.
+    """The sampled pulse of a cell and the total simulated duration (Eq. I1).
 
     Returns
     -------
@@ -158,7 +159,7 @@ def pulse_record(kind: str, period: float, amplitude: float, settings: SweepSett
 def compute_cell(
     bearing: DFPBearing, kind: str, period: float, amplitude: float, settings: SweepSettings
 ) -> Cell:
-    """Simulate one pulse and classify it (no cache)."""
+    """Simulate one pulse and classify it (no cache; regions Eq. I3)."""
     a, duration = pulse_record(kind, period, amplitude, settings)
     try:
         r = simulate(

@@ -6,7 +6,7 @@ with ψ the unit-period, unit-peak Ricker pulse (paper Eqs. 5–6) on an acceler
 its time integral Ψ(u) = ∫ψ du on a velocity record, so the scale s *is* the pulse period Tp.
 :func:`wavelet_transform` evaluates the unweighted transform for all ξ at once per scale by
 FFT correlation against the wavelet's analytic Fourier transform; the weightings w(s) and the
-wavelets' norms are here too (docs/theory/ground-motions.md).
+wavelets' norms are here too (docs/theory/ground-motions.md, Eqs. M19–M22).
 """
 
 from __future__ import annotations
@@ -22,13 +22,14 @@ __all__ = ["SOURCES", "WAVELET_NORM2", "WEIGHTINGS", "WEIGHT_EXPONENT", "check_o
 
 WEIGHTINGS = ("1/sqrt(s)", "1/s", "1")
 SOURCES = ("acceleration", "velocity")
-#: Exponent p of w(s) = s^(−p).
+#: Exponent p of w(s) = s^(−p) (Eq. M20).
 WEIGHT_EXPONENT = {"1/sqrt(s)": 0.5, "1/s": 1.0, "1": 0.0}
-#: Half-width of the wavelet support in units of s: ψ < e^(−22) beyond (signals.md §3.2).
+#: Half-width of the wavelet support in units of s: ψ < e^(−22) beyond (the note to Eq. M8 of
+#: docs/theory/ground-motions.md); it sets the padding of the FFT (Eq. M21).
 SUPPORT = 3.0
 
 
-#: ‖ψ‖² = ∫ψ(u)² du of the unit-period wavelets (signals.md §1.3 and §3.2).
+#: ‖ψ‖² = ∫ψ(u)² du of the unit-period wavelets (docs/theory/ground-motions.md, Eq. M22).
 WAVELET_NORM2 = {
     ("symmetric", "acceleration"): 3.0 / (4.0 * math.sqrt(2.0 * math.pi)),
     ("antisymmetric", "acceleration"): 15.0
@@ -42,7 +43,8 @@ WAVELET_NORM2 = {
 
 
 def _wavelet_spectrum(f, kind: str, source: str):
-    """Fourier transform ∫ψ(u) e^(−2πifu) du of the unit-period wavelet, as phase × real part.
+    """Fourier transform ∫ψ(u) e^(−2πifu) du of the unit-period wavelet, as phase × real part
+    (Eq. M8).
 
     Symmetric (Eq. 5): ψ̂ = (2/√π) f² e^(−f²). Antisymmetric (Eq. 6, ψ ∝ −h‴(τ), h = e^(−τ²/2),
     τ = 2πu/√3): ψ̂ = i·9√(2π)/(2πβ) f³ e^(−3f²/2). On velocity Ψ = ∫ψ, so Ψ̂ = ψ̂/(2πif).
@@ -99,7 +101,8 @@ def default_periods(dt: float, duration: float, step: float = 0.02):
 
 
 def wavelet_transform(x, dt: float, periods, kind: str, source: str = "acceleration"):
-    """Unweighted CWT  W(s, ξ) = ∫ x(t) ψ((t − ξ)/s) dt  at every sample ξ = t_n (paper Eq. 7).
+    """Unweighted CWT  W(s, ξ) = ∫ x(t) ψ((t − ξ)/s) dt  at every sample ξ = t_n (paper Eq. 7;
+    Eqs. M19 and M21).
 
     Multiply row i by w(s_i) for the weighted transform C. Computed by FFT with the
     wavelet's analytic spectrum, padded so nothing wraps around. Outside the record the

@@ -1,12 +1,13 @@
 """Ricker pulse extraction from a record (paper §4.1, Vassiliou & Makris 2011).
 
 The record's wavelet transform (:mod:`rigid.motions.cwt`, paper Eq. 7) is searched for pulses.
-Candidates are local maxima of |C| in the (s, ξ) plane (several, not only the global one;
-``reference/signals.md`` §3.2), refined by parabolas in ln s and ξ on the grid, then polished
-on the normalised projection of the record on the sampled pulse template. The amplitude is the
-least-squares projection of the record on the pulse in the transform's own domain (§3.3),
-so a pure pulse is recovered exactly with w = 1/√s, while w = 1/s and w = 1 shift the scale by
-the closed-form ratio of §3.4. The match indices are paper Eqs. 8–9:
+Candidates are local maxima of |C| in the (s, ξ) plane (several, not only the global one),
+refined by parabolas in ln s and ξ on the grid, then polished on the normalised projection of
+the record on the sampled pulse template (docs/theory/ground-motions.md, "Pulse extraction",
+Eqs. M26–M28). The amplitude is the least-squares projection of the record on the pulse in the
+transform's own domain (Eq. M23), so a pure pulse is recovered exactly with w = 1/√s (Eq. M24),
+while w = 1/s and w = 1 shift the scale by the closed-form ratio of Eq. M25. The match indices
+are paper Eqs. 8–9 (Eqs. M29–M30):
 
     e_a = ∫ a_g a_p dt / ∫ a_g² dt,      e_v = ∫ v_g v_p dt / ∫ v_g² dt,
 
@@ -96,7 +97,8 @@ def _row_maxima(mag):
 
 
 def _local_maxima(mag, row_max, rows, cols, weights, periods, dt: float, count: int):
-    """(row, col) of the ``count`` largest local maxima of w(s)·|W|, one per pulse.
+    """(row, col) of the ``count`` largest local maxima of w(s)·|W|, one per pulse
+    (docs/theory/ground-motions.md, "Pulse extraction").
 
     A maximum is not exceeded by any of its 8 neighbours (grid edges count as −∞); ``rows``
     and ``cols`` are the maxima along ξ. Maxima within ±0.5·s in ξ and a factor 1.5 in s of
@@ -133,7 +135,7 @@ def _local_maxima(mag, row_max, rows, cols, weights, periods, dt: float, count: 
 
 
 def _parabola_offset(y0: float, y1: float, y2: float) -> float:
-    """Vertex of the parabola through (−1, y0), (0, y1), (1, y2), clipped to ±0.5."""
+    """Vertex of the parabola through (−1, y0), (0, y1), (1, y2), clipped to ±0.5 (Eq. M26)."""
     den = y0 - 2.0 * y1 + y2
     if not den < 0:
         return 0.0
@@ -143,8 +145,8 @@ def _parabola_offset(y0: float, y1: float, y2: float) -> float:
 def _refine(mag, weights, r: int, c: int, periods, dt: float):
     """Sub-grid (period, time) of a maximum of w(s)·|W| by parabolas in ln s and in ξ.
 
-    The parabolas are fitted to ln|W|: for a Ricker pulse ln|W| is even about the peak in
-    ln s to third order (signals.md §3.4's profile r^(n+1−p)/(1 + r²)^(n+½) at p = ½), so
+    The parabolas are fitted to ln|W| (Eq. M27): for a Ricker pulse ln|W| is even about the
+    peak in ln s to third order (the profile r^(n+1−p)/(1 + r²)^(n+½) of Eq. M25 at p = ½), so
     the vertex is accurate to O(h⁴) rather than O(h²) on a grid of step h.
     """
     nrow, ncol = mag.shape
@@ -160,7 +162,7 @@ def _refine(mag, weights, r: int, c: int, periods, dt: float):
 
 
 def _match(x, t, dt, kind, source, p, period, t0):
-    """s^(½−p)·|⟨x, T⟩|/‖T‖ with T the sampled pulse template in the source's domain.
+    """s^(½−p)·|⟨x, T⟩|/‖T‖ with T the sampled pulse template in the source's domain (Eq. M28).
 
     Equal to the weighted coefficient w(s)·|C| up to a constant and O(dt²) (‖T‖² ≈ s‖ψ‖²),
     but built from the very templates the amplitude fit uses (on velocity, the trapezoidal
@@ -203,7 +205,8 @@ def _inner(x, y) -> float:
 
 
 def _fit(acc, vel, t, dt, kind, source, weighting, period, t0, coefficient):
-    """Least-squares amplitude in the source's domain and e_a, e_v (paper Eqs. 8–9).
+    """Least-squares amplitude in the source's domain and e_a, e_v (paper Eqs. 8–9; Eqs. M23,
+    M29–M30).
 
     All integrals over the record by the trapezoidal rule; v_p is integrated from the first
     sample like v_g.
@@ -332,7 +335,7 @@ def extract_pulse(
         Record the transform is applied to.
     weighting : {"1/sqrt(s)", "1/s", "1"}
         w(s) of paper Eq. 7. Only 1/√s returns the period of a pure pulse unbiased;
-        1/s and 1 shift it by the factors of ``reference/signals.md`` §3.4.
+        1/s and 1 shift it by the factors of docs/theory/ground-motions.md, Eq. M25.
     kind : {"symmetric", "antisymmetric"} or None
         Mother wavelet; None tries both.
     periods : array_like [s], optional
@@ -353,7 +356,7 @@ def extract_pulse(
     return max(best, key=_own_index)
 
 
-#: Paper §4.1: criterion → (source record, index maximised).
+#: Paper §4.1: criterion → (source record, index maximised) (Eq. M31).
 CRITERIA = {
     1: ("acceleration", "e_a"),
     2: ("acceleration", "e_v"),
@@ -377,7 +380,7 @@ def best_pulse(
 
     The maximum is taken over ``count`` candidate maxima of each kind (both kinds).
     Note that e_a and e_v are linear in Ap, so an index computed in the other domain can
-    exceed 1 for an over-scaled pulse (``reference/signals.md`` §3.5).
+    exceed 1 for an over-scaled pulse (docs/theory/ground-motions.md, after Eq. M30).
 
     Parameters
     ----------

@@ -4,7 +4,7 @@ Symmetric:      a(t) = Ap (1 − 2π²τ²) exp(−π²τ²),                 τ
 Antisymmetric:  a(t) = (Ap/1.38) (4π²τ²/3 − 3)(2πτ/√3) exp(−2π²τ²/3)                  (Eq. 6)
 
 Velocity and displacement are the exact integrals from t = −∞ (both pulses leave no residual
-velocity or displacement; ``reference/signals.md`` §2.1).
+velocity or displacement; docs/theory/ground-motions.md, Eqs. M1–M7).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 #: Normaliser of the antisymmetric pulse as printed in the paper (Eq. 6); the exact peak
-#: normaliser is 1.380119, so the printed one gives a peak of 1.00009·Ap.
+#: normaliser is 1.380119 (Eq. M3), so the printed one gives a peak of 1.00009·Ap.
 ANTISYMMETRIC_NORM = 1.38
 
 KINDS = ("symmetric", "antisymmetric")
@@ -52,15 +52,16 @@ def ricker(t, amplitude: float, period: float, kind: str = "symmetric", t0: floa
     """
     _check(amplitude, period, kind)
     tau = (np.asarray(t, dtype=float) - t0) / period
-    if kind == "symmetric":
+    if kind == "symmetric":  # Eq. M1 (paper Eq. 5)
         x = (math.pi * tau) ** 2
         return amplitude * (1.0 - 2.0 * x) * np.exp(-x)
-    u = 2.0 * math.pi * tau / math.sqrt(3.0)
+    u = 2.0 * math.pi * tau / math.sqrt(3.0)  # Eq. M2 (paper Eq. 6)
     return amplitude / ANTISYMMETRIC_NORM * (u * u - 3.0) * u * np.exp(-0.5 * u * u)
 
 
 def ricker_velocity(t, amplitude: float, period: float, kind: str = "symmetric", t0: float = 0.0):
-    """Exact ground velocity of :func:`ricker` [m/s], zero at t = −∞ (same parameters)."""
+    """Exact ground velocity of :func:`ricker` [m/s], zero at t = −∞ (same parameters;
+    Eq. M4)."""
     _check(amplitude, period, kind)
     s = np.asarray(t, dtype=float) - t0
     tau = s / period
@@ -74,7 +75,8 @@ def ricker_velocity(t, amplitude: float, period: float, kind: str = "symmetric",
 def ricker_displacement(
     t, amplitude: float, period: float, kind: str = "symmetric", t0: float = 0.0
 ):
-    """Exact ground displacement of :func:`ricker` [m], zero at t = −∞ (same parameters)."""
+    """Exact ground displacement of :func:`ricker` [m], zero at t = −∞ (same parameters;
+    Eq. M5)."""
     _check(amplitude, period, kind)
     s = np.asarray(t, dtype=float) - t0
     tau = s / period

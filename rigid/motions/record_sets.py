@@ -103,7 +103,8 @@ def fema_p695(name: str, normalized: bool = False) -> list[GroundMotion]:
     normalized : bool
         False (default): as recorded. True: multiplied by the FEMA P695 normalisation factor
         NM_i = median(PGV_PEER)/PGV_PEER,i of the pair (stored in
-        ``metadata["normalization_factor"]``), as used for the set's S_NRT (Table A-3).
+        ``metadata["normalization_factor"]``), as used for the set's S_NRT (Table A-3;
+        docs/theory/ground-motions.md, Eqs. M17–M18).
 
     Returns
     -------

@@ -5,8 +5,8 @@ a ground acceleration that is linear between samples (Nigam & Jennings 1969, BSS
 two-step state recurrence [u, u̇]_{i+1} = A·[u, u̇]_i + B·[a_i, a_{i+1}] is rewritten as a
 second-order IIR filter and run by :func:`scipy.signal.lfilter`, one call per period, so the
 time loop is compiled. Peaks between samples are not sought: at T ≥ 10·dt the sampled peak is
-within about 1 % of the continuous one (``reference/signals.md`` §5.1), and at Tb = 4.5 s
-there are hundreds of samples per period.
+at most 5 % (about 1–2 % typically) below the continuous one, and at Tb = 4.5 s there are
+hundreds of samples per period (docs/theory/ground-motions.md, Eqs. M9–M14).
 """
 
 from __future__ import annotations
@@ -42,7 +42,8 @@ def nigam_jennings_coefficients(period: float, dt: float, damping: float = 0.05)
     -------
     A, B : ndarray, shape (2, 2)
         ``[u, u̇]_{i+1} = A @ [u, u̇]_i + B @ [a_i, a_{i+1}]`` for ü + 2ξωu̇ + ω²u = −a_g,
-        with u [m], u̇ [m/s] and a [m/s²] (Nigam & Jennings 1969, Eqs. 5–6).
+        with u [m], u̇ [m/s] and a [m/s²] (Nigam & Jennings 1969, Eqs. 5–6;
+        docs/theory/ground-motions.md, Eqs. M10–M11).
     """
     xi = float(damping)
     w = 2.0 * math.pi / period
@@ -76,7 +77,7 @@ def nigam_jennings_coefficients(period: float, dt: float, damping: float = 0.05)
 
 
 def _displacement_filter(period: float, dt: float, damping: float):
-    """(b, a) of the IIR filter a_g → u equivalent to the N-J recurrence.
+    """(b, a) of the IIR filter a_g → u equivalent to the N-J recurrence (Eq. M12).
 
     With z-transforms, X = (zI − A)⁻¹ (B₀ + z B₁) a_g, where B₀ and B₁ are B's columns; the
     first row of the adjugate gives the numerator, det(zI − A) the denominator.
@@ -145,7 +146,7 @@ def spectral_displacement(acceleration, dt: float, periods, damping: float = 0.0
 
 
 def pseudo_acceleration(acceleration, dt: float, periods, damping: float = 0.05):
-    """5 %-damped (by default) pseudo-spectral acceleration PSA = ω²·Sd.
+    """5 %-damped (by default) pseudo-spectral acceleration PSA = ω²·Sd (Eq. M13).
 
     Exact for a ground acceleration that is linear between samples (Nigam & Jennings 1969),
     run as an IIR filter with :func:`scipy.signal.lfilter`; the oscillator starts at rest at
@@ -171,7 +172,7 @@ def pseudo_acceleration(acceleration, dt: float, periods, damping: float = 0.05)
     --------
     >>> import numpy as np, rigid
     >>> t, a = rigid.ricker_record(1.0, 1.0, dt=0.001)
-    >>> round(float(rigid.pseudo_acceleration(a, 0.001, [1.0])[0]), 4)  # signals.md §2.2
+    >>> round(float(rigid.pseudo_acceleration(a, 0.001, [1.0])[0]), 4)  # ground-motions.md
     2.0834
     """
     sd = spectral_displacement(acceleration, dt, periods, damping)
@@ -181,7 +182,8 @@ def pseudo_acceleration(acceleration, dt: float, periods, damping: float = 0.05)
 def scale_factor(
     acceleration, dt: float, target: float, period: float = 4.5, damping: float = 0.05
 ) -> float:
-    """Factor k that brings the record's PSA at ``period`` to ``target`` (PSA is linear in k).
+    """Factor k that brings the record's PSA at ``period`` to ``target`` (PSA is linear in k;
+    Eq. M15).
 
     Parameters
     ----------
@@ -218,7 +220,8 @@ def scaling_ladder(
     """The FEMA P695-style ladder of record scales in equal steps of PSA(T).
 
     Bao & Becker (2016, §4.2) step SA(Tb = 4.5 s) up by 0.01 g until the bearing fails; the
-    scale of rung j is k_j = SA*_j / SA_record(T), with SA*_j = start + j·step ≤ stop.
+    scale of rung j is k_j = SA*_j / SA_record(T), with SA*_j = start + j·step ≤ stop
+    (Eq. M16).
 
     Parameters
     ----------
