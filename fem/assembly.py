@@ -2,18 +2,17 @@ r"""Plane-strain bilinear quadrilaterals (Q1) with the B-bar (mean dilatation) s
 
 The symmetric gradient of the vector Q1 field is written as a Mandel 4-vector
 ``[ε_xx, ε_yy, ε_zz, √2 ε_xy]`` (ε_zz = 0 in plane strain) through a strain–displacement array
-``B[i, a, e, q]`` (component i, local basis function a, element e, quadrature point q). With
-B-bar, the volumetric part is replaced by its element average (Hughes 1980, IJNME 15:1413;
-Hughes 2000, *The Finite Element Method*, §4.5)::
+``B[i, a, e, q]`` (component i, local basis function a, element e, quadrature point q; Eq. F10
+of docs/theory/finite-elements.md). With B-bar, the volumetric part is replaced by its element
+average (Hughes 1980, IJNME 15:1413; Hughes 2000, *The Finite Element Method*, §4.5; Eq. F11)::
 
     ε̄ = ε − (θ − θ̄)/3 · 1,   θ = tr ε = div u,   θ̄ = ∫_e θ dx / ∫_e dx,
 
 so that ε̄_zz = (θ̄ − θ)/3 is not zero point-wise but averages to zero over each element. This
-removes volumetric locking under incompressible plastic flow (reference fem.md §3.2).
+removes volumetric locking under incompressible plastic flow.
 
-The element matrices are built with batched matrix products from ``B`` (computed once from a
-scikit-fem :class:`skfem.CellBasis`) and scattered into a CSR pattern computed once
-(reference fem.md §2.5).
+The element matrices (Eq. F12) are built with batched matrix products from ``B`` (computed once
+from a scikit-fem :class:`skfem.CellBasis`) and scattered into a CSR pattern computed once.
 """
 
 from __future__ import annotations
@@ -47,7 +46,7 @@ def strain_displacement(basis: Basis, bbar: bool = True) -> np.ndarray:
     B[0] = grads[:, 0, 0]
     B[1] = grads[:, 1, 1]
     B[3] = (grads[:, 0, 1] + grads[:, 1, 0]) / SQRT_2  # √2 ε_xy with ε_xy = (u_x,y + u_y,x)/2
-    if bbar:
+    if bbar:  # Eq. F11 (mean dilatation)
         theta = grads[:, 0, 0] + grads[:, 1, 1]
         dx = basis.dx
         theta_mean = (theta * dx).sum(axis=-1, keepdims=True) / dx.sum(axis=-1, keepdims=True)
@@ -95,7 +94,8 @@ class PlaneStrainQ1:
         self._BwT = np.ascontiguousarray(weighted.transpose(0, 2, 1))
         self._pattern()
         # B as one sparse matrix (rows: component, element, point): strains and forces by
-        # sparse products, 2–3× faster than the einsum over the gathered element dofs.
+        # sparse products, faster than the einsum over the gathered element dofs (BENCHMARKS.md,
+        # "FE model").
         nel, nqp = self.dx.shape
         rows = np.broadcast_to(np.arange(4 * nel * nqp).reshape(4, 1, nel, nqp), self.B.shape)
         cols = np.broadcast_to(self.element_dofs[None, :, :, None], self.B.shape)
@@ -155,7 +155,7 @@ class PlaneStrainQ1:
         return (self._Bmat @ u).reshape(4, *self.dx.shape)
 
     def internal_force(self, stress: np.ndarray) -> np.ndarray:
-        """f_int = Σ_e ∫ Bᵀσ dx, per unit thickness.
+        """f_int = Σ_e ∫ Bᵀσ dx, per unit thickness (Eq. F12).
 
         Parameters
         ----------
@@ -168,7 +168,7 @@ class PlaneStrainQ1:
         return self._BmatT @ (stress * self.dx).ravel()
 
     def stiffness(self, tangent: np.ndarray) -> sp.csr_matrix:
-        """K = Σ_e ∫ Bᵀ D B dx, per unit thickness.
+        """K = Σ_e ∫ Bᵀ D B dx, per unit thickness (Eq. F12).
 
         Parameters
         ----------

@@ -1,6 +1,7 @@
 r"""The DFP bearing as a plane-strain FE system: mesh, slider, constraints, masses, loads.
 
-Mapping the 3-D bearing to 2-D plane strain (all FE quantities are per unit depth):
+Mapping the 3-D bearing to 2-D plane strain (all FE quantities are per unit depth;
+docs/theory/finite-elements.md, Eqs. F1–F3):
 
 * The model has an out-of-plane depth ``depth = A/b = πb/4`` (A the slider's bearing area,
   b its diameter). A pressure p on the slider's chord b then carries exactly the 3-D load:
@@ -72,7 +73,7 @@ class DFPSystem:
 
 
 def out_of_plane_depth(bearing: DFPBearing) -> float:
-    """Depth of the plane-strain model, A/b = πb/4 [m] (p·b·depth = W)."""
+    """Depth of the plane-strain model, A/b = πb/4 [m] (p·b·depth = W; Eqs. F1–F2)."""
     return bearing.slider_area / bearing.slider_diameter
 
 
@@ -95,9 +96,10 @@ def build_system(
         Keyword arguments of :func:`fem.geometry.build_mesh` (``rim_size``, ``contact_size``,
         ``coarse_size``, ``block_height`` [m]).
     penalty_factor : float [-]
-        ε_N = factor · E / h_c, h_c the mean dish facet length (fem.md §7.5: 10–100).
+        ε_N = factor · E / h_c, h_c the mean dish facet length (docs/theory/finite-elements.md,
+        Eq. F15).
     tangential_ratio : float [-]
-        ε_T / ε_N (fem.md §7.5: 0.1–1).
+        ε_T / ε_N (Eq. F16).
     vertex_contact : bool
         Also make the slider's four vertices contact points against the rims' inner faces and
         tops (:func:`fem.contact.vertex_contact`). Off by default: see :mod:`fem.model`.
@@ -150,7 +152,7 @@ def build_system(
     top = np.unique(m.facets[:, m.boundaries["block_top"]])
     reduction = Reduction(system.size, fixed=nd[:, support].ravel(), ties=(nd[0, top], nd[1, top]))
 
-    # Lumped (row-sum) steel mass of the plates: ∫ρ φ_a dx per dof.
+    # Lumped (row-sum) steel mass of the plates: ∫ρ φ_a dx per dof (Eq. F3).
     rho = bearing.steel_density
     plate_mass = asm(LinearForm(lambda v, w: rho * (v[0] + v[1])), fe.basis)
     full_mass = np.concatenate([plate_mass, np.array([1.0, 1.0, 1.0])])

@@ -2,12 +2,12 @@ r"""Implicit HHT-α time integration with Newton iterations and automatic step c
 
 The equations of motion in the frame of the ground, for the reduced unknowns ``a`` of
 :class:`fem.system.Reduction`, are M ä + f_int(a) = f_ext(t) = g − M r a_g(t), with a lumped M,
-g the weights and r the horizontal influence vector. Each step solves the HHT-α equilibrium
-(Hilber, Hughes & Taylor 1977) with the Newmark updates (docs/theory/finite-elements.md) by
-Newton's method on d_{n+1}, starting from the predictor d_n + Δt v_n + Δt² a_n/2 (which
-follows the slider's curved path to third order) with the tangent M/(βΔt²) + (1 + α) K_t; the
-linear solves use :class:`fem.linear.TangentSolver`, and a line search's accepted evaluation
-serves as the next iteration's.
+g the weights and r the horizontal influence vector (docs/theory/finite-elements.md, Eq. F23).
+Each step solves the HHT-α equilibrium (Hilber, Hughes & Taylor 1977) with the Newmark updates
+(Eqs. F24–F26) by Newton's method on d_{n+1} (Eq. F27), starting from the predictor
+d_n + Δt v_n + Δt² a_n/2 (Eq. F28, which follows the slider's curved path to third order) with
+the tangent M/(βΔt²) + (1 + α) K_t; the linear solves use :class:`fem.linear.TangentSolver`,
+and a line search's accepted evaluation serves as the next iteration's.
 
 Step control (docs/theory/finite-elements.md, "Time steps"): a step whose Newton iteration
 does not converge is retried with half the step (down to ``min_step``); a step that opens or
@@ -15,7 +15,7 @@ closes a rim contact while longer than ``impact_step`` is retried at ``impact_st
 kept while any rim contact is active; a step that changes the energy-balance residual by more than
 ``energy_tol`` is redone at half the size; afterwards the step doubles back to ``max_step``.
 
-Energy per unit depth is recorded every step: the input work, kinetic energy,
+Energy per unit depth is recorded every step (Eqs. F29–F31): the input work, kinetic energy,
 material work split into elastic strain energy and plastic dissipation, the penalty springs'
 energy and the friction work; their residual is HHT's algorithmic dissipation plus the
 trapezoidal error of the work sums.
@@ -34,12 +34,14 @@ from .system import State
 
 @dataclass(frozen=True)
 class HHTParameters:
-    """HHT-α constants.
+    """HHT-α constants (docs/theory/finite-elements.md, Eq. F26).
 
     Parameters
     ----------
     alpha : float [-]
-        −1/3 ≤ α ≤ 0; 0 is Newmark's average acceleration.
+        −1/3 ≤ α ≤ 0; 0 is Newmark's average acceleration. The default −0.3 damps the
+        slider's stiff penalty-contact modes that spoil Newton's predictor, chosen by a
+        measured comparison (docs/theory/finite-elements.md, "Why α = −0.3").
     """
 
     alpha: float = -0.3
@@ -84,7 +86,8 @@ class StepControl:
         Largest change of the energy-balance residual in one step: a step that exceeds it is
         redone at half the size, down to ``impact_step / 8`` (below that it is accepted).
         Penalty contacts that open and close within one step (a light slider rattling between
-        airborne plates) make or destroy energy; this catches them. Default: no limit.
+        airborne plates) make or destroy energy; this catches them. Default: no limit
+        (docs/theory/finite-elements.md §Time steps).
     """
 
     max_step: float = 5e-3
@@ -191,11 +194,11 @@ class Integrator:
             None if Newton did not converge; otherwise the new d, v, acc, trial state,
             evaluation, reduced internal force, external force, iteration count.
         """
-        al, be, ga = self.hht.alpha, self.hht.beta, self.hht.gamma
+        al, be, ga = self.hht.alpha, self.hht.beta, self.hht.gamma  # Eq. F26
         f_ext = self.external(t + h)
         rhs_const = (1 + al) * f_ext - al * f_ext_n + al * f_int_n
         base = d + h * v + h * h * (0.5 - be) * acc
-        x = d + h * v + 0.5 * h * h * acc  # predictor: a_{n+1} = a_n
+        x = d + h * v + 0.5 * h * h * acc  # predictor: a_{n+1} = a_n (Eq. F28)
         c0 = 1.0 / (be * h * h)
         tol = self.control.rtol * self.scale
         ev = None
@@ -204,13 +207,13 @@ class Integrator:
                 ev = self.system.evaluate(self.red.expand(x), state)
             f_int = self.red.reduce(ev.internal_force)
             a_new = c0 * (x - base)
-            res = rhs_const - self.M * a_new - (1 + al) * f_int
+            res = rhs_const - self.M * a_new - (1 + al) * f_int  # Eqs. F24 and F27
             norm = float(np.linalg.norm(res))
             if not math.isfinite(norm):
                 return None
             if norm <= tol:
                 self.newton_iterations += it
-                v_new = v + h * ((1 - ga) * acc + ga * a_new)
+                v_new = v + h * ((1 - ga) * acc + ga * a_new)  # Eq. F25
                 return dict(
                     d=x, v=v_new, acc=a_new, state=State(ev.material.state, ev.contact.state),
                     evaluation=ev, f_int=f_int, f_ext=f_ext, iterations=it,
@@ -224,7 +227,8 @@ class Integrator:
 
     def _line_search(self, x, dx, state, rhs_const, base, c0, norm, halvings=4):
         """Backtracking: halve the Newton correction while it raises the residual norm (guards
-        semi-smooth Newton against active-set ping-pong, fem.md §4); the last trial is kept.
+        semi-smooth Newton against active-set ping-pong; docs/theory/finite-elements.md,
+        Eq. F27); the last trial is kept.
         Returns the new iterate and its evaluation (None if it was not evaluated)."""
         al = self.hht.alpha
         s = 1.0
@@ -305,7 +309,8 @@ class Integrator:
             w_mat_new = w_mat + 0.5 * float((f_mat + f_mat_new) @ dd)
             w_fric_new = w_fric + float(-(con.tangential * con.slip).sum())
             ekin_new = 0.5 * float(self.M @ (out["v"] * out["v"]))
-            # residual = input − kinetic − (strain + plastic) − contact − friction
+            # residual = input − kinetic − (strain + plastic) − contact − friction (Eqs.
+            # F29–F31)
             residual_new = (w_ext_new - ekin_new - w_mat_new - (con.normal_energy - cont0)
                             - w_fric_new)
             if abs(residual_new - residual) > ctl.energy_tol and h > ctl.impact_step / 8:

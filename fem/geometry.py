@@ -176,7 +176,7 @@ def _generate(geo_file: Path, parameters: dict[str, float], target: Path) -> Non
 def _load(path: Path):
     """Read the ``.msh`` through meshio (format named: guessing it tries another ``.msh``
     reader first, which prints a blank line on failure) and scikit-fem's meshio loader,
-    dropping the loader's spurious ``gmsh:bounding_entities`` subdomain (fem.md §1.3)."""
+    dropping the spurious ``gmsh:bounding_entities`` subdomain that scikit-fem's loader adds."""
     import meshio
     from skfem.io.meshio import from_meshio
 

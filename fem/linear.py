@@ -1,5 +1,6 @@
 r"""Newton's linear solves for the HHT-α iteration: a cached elastic factorization plus a
-low-rank (Woodbury) correction for what is not elastic.
+low-rank (Woodbury) correction for what is not elastic (docs/theory/finite-elements.md,
+"Linear solves", Eqs. F32–F35).
 
 Each Newton iteration of :mod:`fem.dynamics` solves, for the reduced unknowns,
 
@@ -19,8 +20,8 @@ plasticity and W the dense
     x = y − C (I + W G)⁻¹ W y_S,   y = A⁻¹ r,   C = A⁻¹ E,   G = Eᵀ C,
 
 needs one back-substitution with the sparse LU of A, the columns C (computed once per dof and
-kept while Δt does not change) and a dense solve of size |S| (≈ 170 while sliding on the
-default mesh, against 4 300 unknowns). The result is then polished by iterative refinement
+kept while Δt does not change) and a dense solve of size |S|, small against the number of
+unknowns. The result is then polished by iterative refinement
 against the exact matrix (residual r − (A + E W Eᵀ)x, itself solved the same way) until the
 relative residual is at the round-off level of a direct sparse solve; if that fails the
 solver falls back to a direct sparse LU of the assembled matrix. The linear systems are the
@@ -36,15 +37,16 @@ import scipy.linalg as la
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu, spsolve
 
-#: Relative residual ‖r − K x‖/‖r‖ accepted from the Woodbury solve. A direct sparse LU of
-#: these matrices reaches ≈ 2e-14 and one Woodbury solve ≈ 1e-13 (measured while sliding);
-#: more is refined, and what cannot be refined is solved directly.
+#: Relative residual ‖r − K x‖/‖r‖ accepted from the Woodbury solve (Eq. F35), near what a
+#: direct sparse LU of these matrices reaches (measured: docs/theory/finite-elements.md,
+#: "Linear solves"); more is refined, and what cannot be refined is solved directly.
 REFINE_TOL = 1e-12
 
 
 def factorize(A: sp.spmatrix):
     """Sparse LU of a (nearly) symmetric matrix: minimum degree on Aᵀ + A, diagonal pivots
-    preferred (SuperLU's symmetric mode; 1.5–2.5× faster than the default COLAMD here)."""
+    preferred (SuperLU's symmetric mode, chosen for speed: docs/theory/finite-elements.md,
+    "Linear solves")."""
     return splu(
         sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1,
         options={"SymmetricMode": True},
@@ -181,7 +183,8 @@ class TangentSolver:
         return S, W
 
     def solve(self, ev, c0: float, s: float, rhs: np.ndarray) -> np.ndarray:
-        """x with (c₀ M + s K(ev)) x = rhs, to a relative residual ≤ :data:`REFINE_TOL`.
+        """x with (c₀ M + s K(ev)) x = rhs, to a relative residual ≤ :data:`REFINE_TOL`
+        (Eqs. F32–F35).
 
         Parameters
         ----------
@@ -204,9 +207,8 @@ class TangentSolver:
             base.last = (S, Cs, Gs)
         # The slider's dofs are decoupled in A (diagonal c₀m, K_el has no slider entries), so
         # their diagonal in A can be changed per solve at no cost: move W's slider diagonal into
-        # A (d = c₀m + W_ii) and out of W. Without that shift the small matrix below has a
-        # condition number ≈ 5e6 (c₀m against ~10¹⁴ N/m of contact) and one refinement sweep
-        # more is needed.
+        # A (d = c₀m + W_ii) and out of W, which keeps the small matrix below well conditioned
+        # (docs/theory/finite-elements.md, "Linear solves").
         sl = self._slider
         pos = np.searchsorted(S, sl)
         ok = pos < S.size
@@ -221,7 +223,7 @@ class TangentSolver:
             Ws[pos, pos] -= shift
             Cs[sl, pos] = 1.0 / d  # the cached slider columns are rewritten on every solve
             Gs[pos, pos] = 1.0 / d
-        if S.size:
+        if S.size:  # Woodbury, Eq. F34
             lu_small = la.lu_factor(np.eye(S.size) + Ws @ Gs)
 
         def apply(r):
@@ -242,7 +244,7 @@ class TangentSolver:
         x = apply(rhs)
         r = residual(x)
         norm = float(np.linalg.norm(r))
-        for _ in range(3):
+        for _ in range(3):  # iterative refinement, Eq. F35
             if not np.isfinite(norm) or norm <= REFINE_TOL * scale:
                 break
             x += apply(r)

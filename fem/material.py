@@ -3,7 +3,7 @@ r"""Plane-strain J2 plasticity with capped linear isotropic hardening.
 Radial return (Wilkins 1964; Simo & Hughes 1998, *Computational Inelasticity*, Box 3.2) with
 the consistent (algorithmic) tangent (Simo & Taylor 1985, CMAME 48:101; de Souza Neto, Perić &
 Owen 2008, *Computational Methods for Plasticity*, Boxes 7.3–7.4), vectorised over quadrature
-points.
+points; docs/theory/finite-elements.md, Eqs. F4–F9.
 
 Tensors are Mandel 4-vectors ``[xx, yy, zz, √2·xy]`` (components first, then any trailing
 shape such as ``(nelems, nqp)``), so that ``a : b = a · b`` and the tangent is a symmetric
@@ -142,7 +142,7 @@ class Material:
         return (self.ultimate_stress - self.yield_stress) / h
 
     def flow_stress(self, eq_plastic_strain):
-        """Current yield stress σ_y(p) = min(f_y + H p, f_u) [Pa].
+        """Current yield stress σ_y(p) = min(f_y + H p, f_u) [Pa] (Eq. F4).
 
         Parameters
         ----------
@@ -153,7 +153,8 @@ class Material:
         return np.minimum(self.yield_stress + self.plastic_modulus * p, self.ultimate_stress)
 
     def elastic_tangent(self) -> np.ndarray:
-        """Elasticity matrix C = 3K·(1⊗1)/3 + 2G·P_dev in Mandel form, shape (4, 4) [Pa]."""
+        """Elasticity matrix C = 3K·(1⊗1)/3 + 2G·P_dev in Mandel form, shape (4, 4) [Pa]
+        (Eq. F5)."""
         return (
             self.bulk_modulus * np.outer(IDENTITY, IDENTITY)
             + 2.0 * self.shear_modulus * DEVIATORIC_PROJECTOR
@@ -244,7 +245,7 @@ def return_map(
     p_u = material.ultimate_plastic_strain
     f_u = material.ultimate_stress
 
-    # Elastic predictor (Simo & Hughes 1998, Box 3.2, step 1).
+    # Elastic predictor, Eq. F6 (Simo & Hughes 1998, Box 3.2, step 1).
     eps_e = strain - eps_p_n
     volumetric = eps_e[:3].sum(axis=0)
     s_trial = 2.0 * G * deviator(eps_e)
@@ -263,7 +264,7 @@ def return_map(
         tangent = np.broadcast_to(elastic, (4, 4, *strain.shape[1:]))
         return ReturnMapResult(stress, tangent, MaterialState(new_eps_p, new_p), plastic)
 
-    # Plastic corrector at the plastic points only (index m). The consistency condition
+    # Plastic corrector (Eq. F7) at the plastic points only (index m). The consistency condition
     # q_tr − 3GΔp = σ_y(p_n + Δp) is linear on each branch of the capped law (Box 3.2, step 2;
     # de Souza Neto et al. 2008, Box 7.3). Hardening branch first; if its root passes the kink
     # p_u, the root lies on the flat branch.
@@ -274,14 +275,14 @@ def return_map(
     dp = np.where(on_flat, (q_m - f_u) / (3.0 * G), dp)
     h_alg = np.where(on_flat, 0.0, H)
     n_hat = s_m / norm_trial[plastic]  # unit flow direction N̂ = s_tr/‖s_tr‖
-    # Δε^p = Δp √(3/2) N̂ ; s = s_tr − 2G Δε^p (Box 3.2, step 3).
+    # Δε^p = Δp √(3/2) N̂ ; s = s_tr − 2G Δε^p (Box 3.2, step 3; Eq. F8).
     d_eps_p = SQRT_3_2 * dp * n_hat
     stress[:, plastic] = s_m - 2.0 * G * d_eps_p
     stress[:3, plastic] += K * volumetric[plastic]
     new_eps_p[:, plastic] += d_eps_p
     new_p[plastic] = p_m + dp
 
-    # Consistent tangent (Simo & Taylor 1985; de Souza Neto et al. 2008, Box 7.4):
+    # Consistent tangent, Eq. F9 (Simo & Taylor 1985; de Souza Neto et al. 2008, Box 7.4):
     # D = K 1⊗1 + 2G(1 − 3GΔp/q_tr) P_dev + 6G²(Δp/q_tr − 1/(3G + H_alg)) N̂⊗N̂.
     ratio = dp / q_m
     beta = 6.0 * G * G * (ratio - 1.0 / (3.0 * G + h_alg))

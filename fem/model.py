@@ -202,21 +202,22 @@ def simulate(
         ``"hinge"``: failure by yielding as soon as a rim root is fully plastic (module
         docstring). ``"escape"``: only the slider's escape is failure, labelled "yielding" if it
         passed a hinged rim that was pushed out of its way, "uplift" if it climbed over (see
-        the module docstring; hinge times are still recorded).
+        the module docstring and docs/theory/finite-elements.md, Eqs. F36–F38; hinge times are
+        still recorded).
     vertex_contact : bool
-        Make the slider's vertices contact points against the rims (module docstring).
+        Make the slider's vertices contact points against the rims
+        (docs/theory/finite-elements.md, Eq. F20; why it is off by default:
+        docs/fe-companion.md, "Slider vertices").
     plasticity : bool
         False keeps the steel linear elastic: rims that cannot yield, as in the rigid model
-        (module docstring, "Uplift").
+        (what that gives: docs/fe-companion.md, "Rims that cannot yield: uplift").
     energy_tolerance : float [-]
         Largest change of the energy-balance residual in one step, as a fraction of W·h_r
         (the work of lifting the supported weight W over the rim height h_r); a step that
         exceeds it is redone at half the size, down to impact_step/8
         (:class:`fem.dynamics.StepControl`). ``math.inf``: no energy control. The default
-        costs nothing on runs that end in yielding (0–12 more steps in 770–930); for runs that
-        end in uplift use 1e-4: on the default mesh the test pulse of
-        tests/test_fem_failure.py with elastic steel closes its balance to 12 % of the input
-        at 1e-3 and to 1.8 % at 1e-4 (2.6 s against 2.5 s to uplift).
+        suits runs that end in yielding; for runs that end in uplift use 1e-4 (the
+        measurements behind this advice: docs/fe-companion.md, "Numerical settings").
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -306,7 +307,7 @@ def simulate(
         hist["root_frac"].append(frac)
         if snapshot_every and (len(hist["t"]) - 1) % snapshot_every == 0:
             snaps.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
-        for k, f in enumerate(frac):
+        for k, f in enumerate(frac):  # the root row fully plastic: a hinge (Eq. F36)
             if f >= 1.0 and RIMS[k] not in hinges:
                 hinges[RIMS[k]] = t
         if failure:
@@ -369,7 +370,8 @@ def simulate(
 
 
 def _check_failure(bearing, sysm, d, pose, vertices, corners, nd, frac, stop_at_hinge):
-    """(mode, detail) of a failure at this state, or (None, None). See the module docstring."""
+    """(mode, detail) of a failure at this state, or (None, None): the hinge, escape and
+    labelling rules of docs/theory/finite-elements.md, Eqs. F36–F38."""
     hinge = [f >= 1.0 for f in frac]
     for k, name in enumerate(RIMS):
         if hinge[k] and stop_at_hinge:

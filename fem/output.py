@@ -1,6 +1,6 @@
 """Output of FE results: VTU files for ParaView (meshio) and pictures (pyvista, off-screen).
 
-pyvista renders through Mesa EGL without a display (fem.md §1.1); the environment variable
+pyvista renders through Mesa EGL without a display (no X server or Xvfb needed); the variable
 ``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow`` is set before pyvista is imported. Heavy
 imports stay inside the functions so ``import fem`` stays light.
 """

@@ -3,11 +3,12 @@ r"""The coupled plate–slider system: internal forces, tangents, dof reduction,
 Full unknowns ``d = [u, q]``: the plate displacements ``u`` (scikit-fem's dof order of the
 vector Q1 basis) followed by the slider's displacement ``q = (X, Z, Θ) − q₀`` from its initial
 pose ``q₀``. Internal forces are ``f_int = f_mat(u) − F_c(d)`` (material, per unit depth, and
-the contact force of :mod:`fem.contact`) with the tangent ``K = K_mat + K_c``.
+the contact force of :mod:`fem.contact`) with the tangent ``K = K_mat + K_c``
+(docs/theory/finite-elements.md, Eq. F21).
 
 Constraints are applied by a reduction ``d = P a`` (:class:`Reduction`): supported dofs
 vanish and tied dofs (the superstructure block's top, rotation locked) share one master
-column, so ``K_red = Pᵀ K P``, ``r_red = Pᵀ r`` and a lumped mass stays diagonal.
+column, so ``K_red = Pᵀ K P``, ``r_red = Pᵀ r`` and a lumped mass stays diagonal (Eq. F22).
 """
 
 from __future__ import annotations
@@ -330,7 +331,8 @@ def solve_static(
 def _line_search(system, reduction, state, a, step, f_ext, free, rel, scale, halvings=5):
     """Backtracking on the residual norm: halve the Newton step while it increases the
     relative residual (at most ``halvings`` times; the last trial is taken regardless).
-    Guards semi-smooth Newton against stick/slip and open/closed ping-pong (fem.md §4)."""
+    Guards semi-smooth Newton against stick/slip and open/closed ping-pong
+    (docs/theory/finite-elements.md, Eq. F27)."""
     s = 1.0
     for _ in range(halvings):
         trial = a + s * step

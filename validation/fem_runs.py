@@ -1,6 +1,7 @@
 """One FE run of a scaled record for the FE critical-SA search: the record trimmed to what can
 matter (:mod:`rigid.collapse.trimming`), the FE model run up to a guessed quiet time, and run
-again to the end if the energy left there could still reach a rim."""
+again to the end if the energy left there could still reach a rim (the end argument:
+docs/theory/collapse.md, "Trimming", Eqs. C13–C15)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ from rigid.model import simulate as rigid_simulate
 __all__ = ["MESHES", "fem_mechanical_energy", "fem_run"]
 
 #: FE mesh sizes [m] (:func:`fem.geometry.build_mesh`): ``coarse`` is
-#: :data:`fem.geometry.COARSE_MESH` (≈ 10× cheaper per Newton iteration than the default).
+#: :data:`fem.geometry.COARSE_MESH` (several times cheaper per Newton iteration than the
+#: default; BENCHMARKS.md, "FE model").
 MESHES = {
     "coarse": COARSE_MESH,
     "default": {},
@@ -26,7 +28,8 @@ MESHES = {
 
 def fem_mechanical_energy(result) -> np.ndarray:
     """Mechanical energy of an FE run [J]: kinetic + elastic (steel and penalty springs) +
-    gravitational (supported mass and slider, from their rise)."""
+    gravitational (supported mass and slider, from their rise); compared with the reach
+    energy as in docs/theory/collapse.md, Eq. C15."""
     b = result.bearing
     e = result.energy
     return (e["kinetic"] + e["strain"] + e["contact"]
@@ -123,7 +126,7 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
             dofs=res.dofs, max_plastic_strain=float(res.max_plastic_strain),
             max_rim_force=float(res.rim_force.max()) if res.rim_force.size else 0.0,
         )
-        out["quiet"] = bool(energy[-1] < QUIET_FRACTION * reach)
+        out["quiet"] = bool(energy[-1] < QUIET_FRACTION * reach)  # Eq. C15
         if res.failed or res.numerical_failure or out["quiet"]:
             break
     if res.failed or res.numerical_failure:

@@ -150,7 +150,8 @@ class ContactResult(NamedTuple):
 
 
 def initial_state(shape: SliderShape, x: np.ndarray, pose, adjust: float = 1e-9):
-    """Virgin friction history and the gap adjustment δ₀ at the initial configuration.
+    """Virgin friction history and the gap adjustment δ₀ at the initial configuration
+    (docs/theory/finite-elements.md, Eq. F15).
 
     Parameters
     ----------
@@ -183,7 +184,8 @@ def evaluate(
     penalty: float,
     tangential_penalty: float,
 ) -> ContactResult:
-    """Contact forces and tangents for slave positions ``x`` and slider pose ``pose``.
+    """Contact forces and tangents for slave positions ``x`` and slider pose ``pose``
+    (docs/theory/finite-elements.md, Eqs. F15–F19).
 
     Parameters
     ----------
@@ -213,16 +215,16 @@ def evaluate(
     gap = depth - offset
     active = gap >= 0.0
     L = nodes.length
-    N = np.where(active, penalty * L * gap, 0.0)
+    N = np.where(active, penalty * L * gap, 0.0)  # Eq. F15
 
     n = Rm @ nu
     tau = np.array([-nu[1], nu[0]])
     t = Rm @ tau
     jxi = np.array([xi[1], -xi[0]])  # J ξ = ∂ξ/∂Θ
-    grad_d = np.concatenate([-n, n, [-(nu * jxi).sum(axis=0)]])  # (5, n)
+    grad_d = np.concatenate([-n, n, [-(nu * jxi).sum(axis=0)]])  # (5, n); Eq. F17
     grad_s = np.concatenate([t, -t, [(tau * jxi).sum(axis=0)]])
 
-    # Friction: elastic predictor from the last converged state on the same face.
+    # Friction: elastic predictor from the last converged state on the same face (Eq. F16).
     same = active & (state.face == face)
     slip = (tau * (xi - state.xi)).sum(axis=0)
     t_old = np.where(same, state.traction, 0.0)
@@ -233,11 +235,11 @@ def evaluate(
     T = np.where(stick, trial, sign * limit)
     T = np.where(active, T, 0.0)
 
-    force = -N * grad_d + T * grad_s  # generalised force on (x_i, z_i, X, Z, Θ)
+    force = -N * grad_d + T * grad_s  # generalised force on (x_i, z_i, X, Z, Θ), Eq. F17
     node_force = force[:2]
     slider_force = force[2:].sum(axis=1)
 
-    # Tangent K = −∂F/∂d.
+    # Tangent K = −∂F/∂d (Eq. F18), with the curvature term N∇²δ (Eq. F19).
     kn = np.where(active, penalty * L, 0.0)
     K = kn * np.einsum("in,jn->ijn", grad_d, grad_d)
     K += N * _depth_hessian(Rm, nu, xi, jxi, rho)
@@ -255,7 +257,7 @@ def evaluate(
 
 
 def _depth_hessian(Rm, nu, xi, jxi, rho):
-    """∇²δ over d = (x, z, X, Z, Θ) for each node, shape (5, 5, n).
+    """∇²δ over d = (x, z, X, Z, Θ) for each node, shape (5, 5, n) (Eq. F19).
 
     δ = R − |ξ − a| on an arc: ∇²_ξ δ = −(I − ν νᵀ)/ρ; with A = ∂ξ/∂d = [Rᵀ, −Rᵀ, Jξ] and the
     second derivatives of ξ(d) (∂²ξ/∂Θ∂x = J Rᵀ, ∂²ξ/∂Θ∂c = −J Rᵀ, ∂²ξ/∂Θ² = −ξ),

@@ -79,7 +79,7 @@ class SliderShape:
 
 
 def penetration(shape: SliderShape, xi: np.ndarray):
-    """Depth of body-frame points inside the slider section and the closest face.
+    """Depth of body-frame points inside the slider section and the closest face (Eq. F14).
 
     Parameters
     ----------
@@ -120,7 +120,7 @@ def penetration(shape: SliderShape, xi: np.ndarray):
 
 
 def body_coordinates(x: np.ndarray, pose) -> np.ndarray:
-    """ξ = Rᵀ(Θ)(x − c) for global points x (2, n) [m] and pose (X, Z, Θ)."""
+    """ξ = Rᵀ(Θ)(x − c) for global points x (2, n) [m] and pose (X, Z, Θ) (Eq. F13)."""
     c, s = math.cos(pose[2]), math.sin(pose[2])
     dx = x[0] - pose[0]
     dz = x[1] - pose[1]

@@ -49,7 +49,8 @@ def vertex_contact(
     shape: SliderShape, nodes: ContactNodes, x: np.ndarray, pose, penalty: float,
     max_depth: float,
 ) -> VertexContact:
-    """Frictionless penalty contact of the slider's four vertices with plate facets.
+    """Frictionless penalty contact of the slider's four vertices with plate facets
+    (docs/theory/finite-elements.md, Eq. F20).
 
     Parameters
     ----------

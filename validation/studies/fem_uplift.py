@@ -12,7 +12,7 @@ Run: ``OMP_NUM_THREADS=1 python -m validation.studies.fem_uplift [Tp:Ap_g[:a] ..
 an antisymmetric pulse; ``--vertices`` makes the slider's vertices contact points;
 ``--yield-scale K`` multiplies the steel's f_y and f_u by K and ``--rim-thickness T`` [m] sets
 the rims' thickness, variants of the assumed rims; the default sweep takes about 5 minutes of
-CPU). The findings are summarised in ``fem/model.py`` and the
+CPU). The findings are summarised in ``docs/fe-companion.md`` and the
 README.
 """
 
