@@ -28,6 +28,8 @@ from rigid.bearing import DFPBearing, G
 from . import contact as C
 
 CONTACT_BOUNDARIES = ("dish", "rim_inner", "rim_top")
+#: Kinematics of the plates and rims: small strain or finite deformation.
+KINEMATICS = ("small", "finite")
 
 
 @dataclass
@@ -85,6 +87,7 @@ def build_system(
     tangential_ratio: float = 0.1,
     vertex_contact: bool = False,
     plasticity: bool = True,
+    kinematics: str = "small",
     cache_dir=None,
 ) -> DFPSystem:
     """Assemble the plane-strain DFP model of a bearing.
@@ -107,6 +110,9 @@ def build_system(
         The bearing's elastoplastic steel (default); False keeps it linear elastic
         (:meth:`fem.material.Material.elastic`), the FE counterpart of the rigid model's rims
         that cannot yield.
+    kinematics : {"small", "finite"}
+        Small strain (Q1 B-bar, :mod:`fem.assembly`) or finite deformation of the plates and
+        rims (mean-dilatation Q1 with Hencky J2, :mod:`fem.finite_element`).
     cache_dir : path-like, optional
         Mesh cache.
 
@@ -117,13 +123,16 @@ def build_system(
     from skfem import LinearForm, asm
 
     from .assembly import PlaneStrainQ1
+    from .finite_element import FiniteStrainQ1
     from .geometry import build_mesh
     from .material import Material
     from .system import CoupledSystem, Reduction
 
     dfp = build_mesh(bearing, cache_dir=cache_dir, **(mesh_options or {}))
     m = dfp.mesh
-    fe = PlaneStrainQ1(m)
+    if kinematics not in KINEMATICS:
+        raise ValueError(f"kinematics must be 'small' or 'finite', got {kinematics!r}")
+    fe = FiniteStrainQ1(m) if kinematics == "finite" else PlaneStrainQ1(m)
     depth = out_of_plane_depth(bearing)
 
     boundaries = {}

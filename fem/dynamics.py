@@ -272,7 +272,7 @@ class Integrator:
         energy = Energy()
         w_ext = w_mat = w_fric = 0.0
         ekin = residual = 0.0
-        strain0 = self._strain_energy(ev)
+        strain0 = self.system.strain_energy(ev)
         cont0 = ev.contact.normal_energy
         times = [t_start]
         self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
@@ -340,16 +340,8 @@ class Integrator:
             failed_numerically=failed, message=message, d=d, v=v, state=state,
         )
 
-    def _strain_energy(self, ev) -> float:
-        """Elastic strain energy ½∫σ:C⁻¹:σ dx per unit depth [J/m]."""
-        mat = self.system.material
-        stress = ev.material.stress
-        compliance = np.linalg.inv(mat.elastic_tangent())
-        density = 0.5 * np.einsum("ieq,ij,jeq->eq", stress, compliance, stress)
-        return float((density * self.system.fe.dx).sum())
-
     def _record(self, energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0):
-        strain = self._strain_energy(ev) - strain0
+        strain = self.system.strain_energy(ev) - strain0
         contact = ev.contact.normal_energy - cont0
         energy.input.append(w_ext)
         energy.kinetic.append(ekin)

@@ -153,14 +153,10 @@ class TangentSolver:
         if vblocks.size:
             blocks.append(vblocks)
             dofs.append(self._col[vdofs])
-        mat = ev.material
-        plastic = np.flatnonzero(mat.plastic.any(axis=1))
-        if plastic.size:
-            fe = self.system.fe
-            blocks.append(
-                fe.element_stiffness(mat.tangent, plastic) - fe.element_stiffness(self._C, plastic)
-            )
-            dofs.append(self._elem[plastic])
+        elements, material = self.system.material_blocks(ev)
+        if elements.size:
+            blocks.append(material)
+            dofs.append(self._elem[elements])
         if not blocks:
             return np.zeros(0, dtype=int), np.zeros((0, 0))
         # pad every block to 8 × 8 so that all can be scattered at once

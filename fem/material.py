@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+from numba import njit
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from rigid.bearing import DFPBearing
@@ -204,8 +205,9 @@ class ReturnMapResult(NamedTuple):
 
 
 def deviator(tensor: np.ndarray) -> np.ndarray:
-    """Deviatoric part of Mandel vectors ``tensor`` of shape (4, ...)."""
-    dev = np.array(tensor, dtype=float, copy=True)
+    """Deviatoric part of Mandel vectors ``tensor`` of shape (4, ...) (real or complex)."""
+    tensor = np.asarray(tensor)
+    dev = np.array(tensor, dtype=complex if np.iscomplexobj(tensor) else float, copy=True)
     dev[:3] -= dev[:3].sum(axis=0) / 3.0
     return dev
 
@@ -214,6 +216,127 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     """Von Mises equivalent stress √(3/2) ‖dev σ‖ [Pa] of Mandel vectors (4, ...)."""
     s = deviator(stress)
     return SQRT_3_2 * np.sqrt(np.einsum("i...,i...->...", s, s))
+
+
+class RadialReturn(NamedTuple):
+    """Output of :func:`radial_return` (all new arrays, real or complex like the input).
+
+    Attributes
+    ----------
+    stress : ndarray, shape (4, ...) [Pa]
+        Stress C : (ε_e^trial − Δε^p) in Mandel form.
+    plastic_increment : ndarray, shape (4, ...) [-]
+        Δε^p (zero at elastic points).
+    eq_plastic_strain : ndarray, shape (...) [-]
+        p + Δp.
+    plastic : ndarray of bool, shape (...)
+        Points on the plastic branch.
+    """
+
+    stress: np.ndarray
+    plastic_increment: np.ndarray
+    eq_plastic_strain: np.ndarray
+    plastic: np.ndarray
+
+
+@njit(cache=True, inline="always")
+def radial_point(e0, e1, e2, e3, p_n, G, K, H, f_y, f_u, p_u):
+    """Radial return at one point (real or complex elastic trial strain ``e0..e3``, Mandel).
+
+    Returns the stress (4 values), the plastic strain increment (4), p + Δp, whether the point
+    is plastic, Δp and q_tr. Eqs. F6–F8; branches are chosen on real parts.
+    """
+    vol = e0 + e1 + e2
+    mean = vol / 3.0
+    # Elastic predictor, Eq. F6 (Simo & Hughes 1998, Box 3.2, step 1).
+    s0 = 2.0 * G * (e0 - mean)
+    s1 = 2.0 * G * (e1 - mean)
+    s2 = 2.0 * G * (e2 - mean)
+    s3 = 2.0 * G * e3
+    norm = np.sqrt(s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3)
+    q = SQRT_3_2 * norm
+    f = q - min(f_y + H * p_n, f_u)
+    zero = 0.0 * e0
+    if not f.real > 0.0:
+        return (s0 + K * vol, s1 + K * vol, s2 + K * vol, s3, zero, zero, zero, zero,
+                p_n + zero, False, zero, q)
+    # Plastic corrector, Eq. F7: the consistency condition q_tr − 3GΔp = σ_y(p_n + Δp) is
+    # linear on each branch of the capped law (Box 3.2, step 2; de Souza Neto et al. 2008,
+    # Box 7.3); hardening branch first, the flat branch if its root passes the kink p_u.
+    dp = f / (3.0 * G + H)
+    if p_n + dp.real > p_u:
+        dp = (q - f_u) / (3.0 * G)
+    # Δε^p = Δp √(3/2) N̂, N̂ = s_tr/‖s_tr‖; s = s_tr − 2G Δε^p (Box 3.2, step 3; Eq. F8).
+    c = SQRT_3_2 * dp / norm
+    d0, d1, d2, d3 = c * s0, c * s1, c * s2, c * s3
+    return (s0 - 2.0 * G * d0 + K * vol, s1 - 2.0 * G * d1 + K * vol,
+            s2 - 2.0 * G * d2 + K * vol, s3 - 2.0 * G * d3, d0, d1, d2, d3, p_n + dp, True,
+            dp, q)
+
+
+@njit(cache=True)
+def _radial_return_points(eps, p_n, G, K, H, f_y, f_u, p_u, stress, d_eps, p_new, plastic,
+                          dp, q):
+    """:func:`radial_point` at every column of ``eps`` (4, n); fills the output arrays."""
+    for i in range(eps.shape[1]):
+        (stress[0, i], stress[1, i], stress[2, i], stress[3, i], d_eps[0, i], d_eps[1, i],
+         d_eps[2, i], d_eps[3, i], p_new[i], plastic[i], dp[i], q[i]) = radial_point(
+            eps[0, i], eps[1, i], eps[2, i], eps[3, i], p_n[i], G, K, H, f_y, f_u, p_u)
+
+
+def material_constants(material: Material) -> tuple:
+    """(G, K, H, f_y, f_u, p_u) of :func:`radial_point` [Pa, Pa, Pa, Pa, Pa, -]."""
+    return (material.shear_modulus, material.bulk_modulus, material.plastic_modulus,
+            material.yield_stress, material.ultimate_stress, material.ultimate_plastic_strain)
+
+
+def radial_return(material: Material, elastic_trial: np.ndarray, eq_plastic_strain: np.ndarray,
+                  _tangent_data: dict | None = None) -> RadialReturn:
+    """Closest-point projection of an elastic trial strain onto the capped J2 yield surface.
+
+    Backward Euler for J2 with capped linear hardening (Simo & Hughes 1998, Box 3.2; de Souza
+    Neto et al. 2008, Box 7.3; Eqs. F6–F8), point by point (:func:`radial_point`). The
+    small-strain model applies it to ε − ε^p_n; the finite-strain model (:mod:`fem.hencky`)
+    to the logarithmic elastic trial strain. Branch decisions use real parts, so a complex
+    trial strain (complex-step differentiation) follows the branch of its real part
+    analytically.
+
+    Parameters
+    ----------
+    material : Material
+    elastic_trial : ndarray, shape (4, ...) [-]
+        Elastic trial strain in Mandel form (real or complex).
+    eq_plastic_strain : ndarray, shape (...) [-]
+        Equivalent plastic strain p at the start of the increment (real).
+
+    Returns
+    -------
+    RadialReturn
+    """
+    eps = np.asarray(elastic_trial)
+    dtype = complex if np.iscomplexobj(eps) else float
+    shape = eps.shape[1:]
+    flat = np.ascontiguousarray(eps.reshape(4, -1), dtype=dtype)
+    p_n = np.ascontiguousarray(np.broadcast_to(eq_plastic_strain, shape), dtype=float).ravel()
+    n = flat.shape[1]
+    stress = np.empty((4, n), dtype=dtype)
+    d_eps = np.empty((4, n), dtype=dtype)
+    p_new = np.empty(n, dtype=dtype)
+    plastic = np.empty(n, dtype=np.bool_)
+    dp = np.empty(n, dtype=dtype)
+    q = np.empty(n, dtype=dtype)
+    _radial_return_points(flat, p_n, *material_constants(material), stress, d_eps, p_new,
+                          plastic, dp, q)
+    plastic = plastic.reshape(shape)
+    if _tangent_data is not None and plastic.any():
+        m = plastic.ravel()
+        s_dev = deviator(eps).reshape(4, -1)[:, m] * (2.0 * material.shear_modulus)
+        _tangent_data.update(
+            dp=dp[m], q=q[m], n_hat=s_dev / np.sqrt((s_dev * s_dev).sum(axis=0)),
+            h_alg=np.where(p_n[m] + dp[m].real > material.ultimate_plastic_strain, 0.0,
+                           material.plastic_modulus))
+    return RadialReturn(stress.reshape(4, *shape), d_eps.reshape(4, *shape),
+                        p_new.reshape(shape), plastic)
 
 
 def return_map(
@@ -238,52 +361,21 @@ def return_map(
     """
     strain = np.asarray(strain, dtype=float)
     eps_p_n = np.asarray(state.plastic_strain, dtype=float)
-    p_n = np.asarray(state.eq_plastic_strain, dtype=float)
     G = material.shear_modulus
     K = material.bulk_modulus
-    H = material.plastic_modulus
-    p_u = material.ultimate_plastic_strain
-    f_u = material.ultimate_stress
-
-    # Elastic predictor, Eq. F6 (Simo & Hughes 1998, Box 3.2, step 1).
-    eps_e = strain - eps_p_n
-    volumetric = eps_e[:3].sum(axis=0)
-    s_trial = 2.0 * G * deviator(eps_e)
-    norm_trial = np.sqrt((s_trial * s_trial).sum(axis=0))
-    q_trial = SQRT_3_2 * norm_trial
-    f_trial = q_trial - material.flow_stress(p_n)
-    plastic = f_trial > 0.0
-    s_m = s_trial[:, plastic]  # deviatoric trial stress of the plastic points (a copy)
-    stress = s_trial
-    stress[:3] += K * volumetric  # the plastic points are overwritten below
+    data: dict = {}
+    ret = radial_return(material, strain - eps_p_n, state.eq_plastic_strain, data)
+    plastic = ret.plastic
+    new_state = MaterialState(eps_p_n + ret.plastic_increment, ret.eq_plastic_strain)
     extra = (1,) * (strain.ndim - 1)
     elastic = material.elastic_tangent().reshape(4, 4, *extra)
-    new_p = p_n.copy()
-    new_eps_p = eps_p_n.copy()
     if not plastic.any():  # every point elastic: D = C everywhere (a read-only view)
         tangent = np.broadcast_to(elastic, (4, 4, *strain.shape[1:]))
-        return ReturnMapResult(stress, tangent, MaterialState(new_eps_p, new_p), plastic)
-
-    # Plastic corrector (Eq. F7) at the plastic points only (index m). The consistency condition
-    # q_tr − 3GΔp = σ_y(p_n + Δp) is linear on each branch of the capped law (Box 3.2, step 2;
-    # de Souza Neto et al. 2008, Box 7.3). Hardening branch first; if its root passes the kink
-    # p_u, the root lies on the flat branch.
-    q_m = q_trial[plastic]
-    p_m = p_n[plastic]
-    dp = f_trial[plastic] / (3.0 * G + H)
-    on_flat = p_m + dp > p_u
-    dp = np.where(on_flat, (q_m - f_u) / (3.0 * G), dp)
-    h_alg = np.where(on_flat, 0.0, H)
-    n_hat = s_m / norm_trial[plastic]  # unit flow direction N̂ = s_tr/‖s_tr‖
-    # Δε^p = Δp √(3/2) N̂ ; s = s_tr − 2G Δε^p (Box 3.2, step 3; Eq. F8).
-    d_eps_p = SQRT_3_2 * dp * n_hat
-    stress[:, plastic] = s_m - 2.0 * G * d_eps_p
-    stress[:3, plastic] += K * volumetric[plastic]
-    new_eps_p[:, plastic] += d_eps_p
-    new_p[plastic] = p_m + dp
+        return ReturnMapResult(ret.stress, tangent, new_state, plastic)
 
     # Consistent tangent, Eq. F9 (Simo & Taylor 1985; de Souza Neto et al. 2008, Box 7.4):
     # D = K 1⊗1 + 2G(1 − 3GΔp/q_tr) P_dev + 6G²(Δp/q_tr − 1/(3G + H_alg)) N̂⊗N̂.
+    dp, q_m, n_hat, h_alg = data["dp"], data["q"], data["n_hat"], data["h_alg"]
     ratio = dp / q_m
     beta = 6.0 * G * G * (ratio - 1.0 / (3.0 * G + h_alg))
     tangent = np.array(np.broadcast_to(elastic, (4, 4, *strain.shape[1:])))
@@ -293,5 +385,4 @@ def return_map(
         + dev[:, :, None] * (1.0 - 3.0 * G * ratio)
         + beta * n_hat[:, None, :] * n_hat[None, :, :]
     )
-    new_state = MaterialState(new_eps_p, new_p)
-    return ReturnMapResult(stress, tangent, new_state, plastic)
+    return ReturnMapResult(ret.stress, tangent, new_state, plastic)

@@ -169,6 +169,7 @@ def simulate(
     failure_criterion: str = "hinge",
     vertex_contact: bool = False,
     plasticity: bool = True,
+    kinematics: str = "small",
     energy_tolerance: float = 1e-3,
     cache_dir=None,
 ) -> FEMResult:
@@ -208,6 +209,9 @@ def simulate(
         Make the slider's vertices contact points against the rims
         (docs/theory/finite-elements.md, Eq. F20; why it is off by default:
         docs/fe-companion.md, "Slider vertices").
+    kinematics : {"small", "finite"}
+        Small strain, or finite deformation of the plates and rims (large rotations and
+        strains; :func:`fem.dfp.build_system`).
     plasticity : bool
         False keeps the steel linear elastic: rims that cannot yield, as in the rigid model
         (what that gives: docs/fe-companion.md, "Rims that cannot yield: uplift").
@@ -246,7 +250,8 @@ def simulate(
     wall0 = _time.perf_counter()
     model = build_system(
         bearing, mesh_options=mesh_options, penalty_factor=penalty_factor,
-        vertex_contact=vertex_contact, plasticity=plasticity, cache_dir=cache_dir,
+        vertex_contact=vertex_contact, plasticity=plasticity, kinematics=kinematics,
+        cache_dir=cache_dir,
     )
     sysm, red, mesh = model.system, model.reduction, model.mesh
     depth = model.depth

@@ -22,6 +22,7 @@ from scipy.sparse.linalg import spsolve
 
 from fem import contact as C
 from fem.assembly import PlaneStrainQ1
+from fem.hencky import FiniteState
 from fem.material import Material, MaterialState, return_map
 
 
@@ -106,6 +107,7 @@ class CoupledSystem:
 
     def __post_init__(self):
         self.pose = np.asarray(self.pose, dtype=float)
+        self.finite = getattr(self.fe, "kinematics", "small") == "finite"
         self.n_plate = self.fe.ndofs
         self.size = self.n_plate + 3
         self.slider_dofs = np.arange(self.n_plate, self.n_plate + 3)
@@ -118,7 +120,8 @@ class CoupledSystem:
 
     def initial_state(self) -> State:
         """Virgin material and friction history."""
-        return State(MaterialState.virgin(self.fe.point_shape), self.initial_contact)
+        virgin = FiniteState if self.finite else MaterialState
+        return State(virgin.virgin(self.fe.point_shape), self.initial_contact)
 
     def slave_positions(self, d: np.ndarray) -> np.ndarray:
         """Deformed slave node positions (2, n) [m]."""
@@ -131,9 +134,12 @@ class CoupledSystem:
     def evaluate(self, d: np.ndarray, state: State) -> Evaluation:
         """f_int and K at ``d`` from the converged history ``state`` (not modified)."""
         u = d[: self.n_plate]
-        mat = return_map(self.material, self.fe.strain(u), state.material)
         f = np.zeros(self.size)
-        f[: self.n_plate] = self.fe.internal_force(mat.stress)
+        if self.finite:
+            mat, f[: self.n_plate] = self.fe.evaluate(self.material, u, state.material)
+        else:
+            mat = return_map(self.material, self.fe.strain(u), state.material)
+            f[: self.n_plate] = self.fe.internal_force(mat.stress)
         f_mat = f.copy()
         x = self.slave_positions(d)
         pose = self.slider_pose(d)
@@ -158,7 +164,10 @@ class CoupledSystem:
 
     def tangent(self, ev: Evaluation) -> sp.csr_matrix:
         """Full tangent K = K_mat + K_c of an evaluation [N/m²]."""
-        Km = self.fe.stiffness(ev.material.tangent)
+        if self.finite:
+            Km = self.fe.finite_stiffness(self.material, ev.material)
+        else:
+            Km = self.fe.stiffness(ev.material.tangent)
         # pad the plate matrix with three empty rows/columns for the slider (no copy)
         indptr = np.concatenate([Km.indptr, np.full(3, Km.indptr[-1], dtype=Km.indptr.dtype)])
         Km = sp.csr_matrix((Km.data, Km.indices, indptr), shape=(self.size, self.size))
@@ -169,6 +178,38 @@ class CoupledSystem:
             cols = np.broadcast_to(dofs[:, None, :], blocks.shape).ravel()
             K = K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=K.shape)
         return K
+
+    def material_blocks(self, ev: Evaluation):
+        """The elements whose material tangent differs from the elastic small-strain stiffness
+        K_el of :attr:`fe` (yielding, or, with finite kinematics, also noticeably deformed:
+        :meth:`fem.finite_element.FiniteStrainQ1.active_elements`), and K_mat − K_el on them.
+
+        Returns
+        -------
+        elements : ndarray of int, shape (m,)
+        blocks : ndarray, shape (m, 8, 8) [N/m²]
+        """
+        fe, mat = self.fe, ev.material
+        elastic = self.material.elastic_tangent()
+        if self.finite:
+            e = fe.active_elements(mat)
+            exact = fe.element_tangent(self.material, mat, e) if e.size else np.zeros((0, 8, 8))
+        else:
+            e = np.flatnonzero(mat.plastic.any(axis=1))
+            exact = fe.element_stiffness(mat.tangent, e) if e.size else np.zeros((0, 8, 8))
+        if not e.size:
+            return e, exact
+        return e, exact - fe.element_stiffness(elastic, e)
+
+    def strain_energy(self, ev: Evaluation) -> float:
+        """Elastic strain energy of the plates [J/m], per unit depth: ½∫σ:C⁻¹:σ dx (small
+        strain) or the Hencky energy ½∫τ̄:C⁻¹:τ̄ dV₀ (finite)."""
+        if self.finite:
+            return self.fe.strain_energy(self.material, ev.material)
+        compliance = np.linalg.inv(self.material.elastic_tangent())
+        stress = ev.material.stress
+        density = 0.5 * np.einsum("ieq,ij,jeq->eq", stress, compliance, stress)
+        return float((density * self.fe.dx).sum())
 
     def vertex_blocks(self, ev: Evaluation):
         """Full dofs (m, 7) and tangents (m, 7, 7) of the active slider-vertex contacts."""
