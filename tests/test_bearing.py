@@ -16,7 +16,7 @@ def test_baseline_loads_and_masses():
     assert b.supported_mass == pytest.approx(60e6 * area / G, rel=1e-12)
     assert b.slider_mass == pytest.approx(7850 * area * 0.2, rel=1e-12)
     assert b.slider_inertia == pytest.approx(b.slider_mass * (3 * 0.04 + 0.04) / 12, rel=1e-12)
-    # reference/rigid_model.md §8.2 table (rounded to 3-4 digits there)
+    # docs/theory/rigid-body.md, table after Eq. R14 (rounded to 3-4 digits there)
     assert b.supported_mass == pytest.approx(768.6e3, rel=1e-3)
     assert b.slider_mass == pytest.approx(197, rel=2e-3)
     assert DFPBearing(pressure=10e6).supported_mass == pytest.approx(128.1e3, rel=1e-3)
@@ -33,18 +33,20 @@ def test_rim_is_where_the_leading_vertex_arrives_at_capacity():
     vz = cz + math.sin(phi) * b.slider_diameter / 2 - math.cos(phi) * b.edge_height / 2
     assert vx == pytest.approx(b.rim_radius, abs=1e-12)
     assert vz == pytest.approx(b.dish_depth(vx), abs=1e-12)  # and it lies on the dish
-    assert b.rim_radius == pytest.approx(0.5099, abs=1e-4)  # reference §8.2
-    assert b.rim_clearance == pytest.approx(0.0249, abs=1e-4)  # c0 ≈ 25 mm, reference §8.2
+    # rigid-body.md, Eq. R6 and the table after R14 (c0 ≈ 25 mm)
+    assert b.rim_radius == pytest.approx(0.5099, abs=1e-4)
+    assert b.rim_clearance == pytest.approx(0.0249, abs=1e-4)
 
 
 def test_period_and_damping_ratio():
     b = DFPBearing()
     assert b.period == pytest.approx(2 * math.pi * math.sqrt((5.0 - 0.2) / G), rel=1e-12)
-    assert b.period == pytest.approx(4.395, abs=1e-3)  # reference §3 prototype, 4.3957 s
+    # rigid-body.md, Eq. R11 (a prototype measured 4.3957 s)
+    assert b.period == pytest.approx(4.395, abs=1e-3)
     assert b.design_period == 4.5
-    assert jankowski_damping_ratio(0.65) == pytest.approx(0.3728, abs=1e-4)  # reference §4.1
+    assert jankowski_damping_ratio(0.65) == pytest.approx(0.3728, abs=1e-4)  # Eq. R18
     assert jankowski_damping_ratio(1.0) == 0.0
-    # static penetration (W/2k)^(2/3): 1.125 mm / 0.341 mm, reference §6.5
+    # static penetration (W/2k)^(2/3): 1.125 mm / 0.341 mm, rigid-body.md table after R14
     assert b.static_penetration == pytest.approx(1.125e-3, rel=2e-3)
     assert DFPBearing(pressure=10e6).static_penetration == pytest.approx(0.341e-3, rel=2e-3)
 

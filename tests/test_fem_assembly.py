@@ -50,7 +50,8 @@ def test_full_integration_matches_skfem_linear_elasticity():
 def mean_dilatation_elasticity(u, v, w):
     """B-bar bilinear form in tensor notation: 2μ dev ε(u) : dev ε(v) + K θ̄(u) θ̄(v), where the
     deviator is the 3-D one of the plane-strain strain (ε_zz = 0) and θ̄ is the element mean of
-    div u (the fem.md §3.2 recipe: cell average with the quadrature weights ``dxw``)."""
+    div u (docs/theory/finite-elements.md, Eq. F11: cell average with the quadrature weights
+    ``dxw``)."""
     lam, mu = lame_parameters(E, NU)
     bulk = lam + 2 * mu / 3
     eu, ev = sym_grad(u), sym_grad(v)

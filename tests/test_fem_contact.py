@@ -136,12 +136,13 @@ def test_coulomb_return_map():
 def test_hertz_plane_strain():
     """Rigid cylinder (the slider's bottom face, R = 50 mm) on an elastic half-plane.
 
-    Half model (symmetry at x = 0), graded tensor mesh, h = a/20 under the contact, domain
-    40a × 40a, frictionless, load P = 3.733 MN/m (fem.md §5.6). Oracle: plane-strain Hertz with
-    E* = E/(1 − ν²) evaluated at the FE's own total normal force P (an exact identity of the
-    load). Tolerances (fem.md §5.6: 3 %): p(0) within 2 % of p0; nodal pressures within 2 % of
-    p0 up to 0.9a (the finite depth and the penalty penetration p0/ε_N ≈ 6e-8 m ≪ a shift
-    p by well under 1 %); the last loaded node within one element of a.
+    Half model (symmetry at x = 0), graded tensor mesh, h = a/20 under the contact, domain 40a ×
+    40a, frictionless, load P = 3.733 MN/m (docs/theory/finite-elements.md, "Oracles used by the
+    tests"). Oracle: plane-strain Hertz with E* = E/(1 − ν²) evaluated at the FE's own total normal
+    force P (an exact identity of the load). Tolerances (finite-elements.md, "Oracles": 3 %): p(0)
+    within 2 % of p0; nodal pressures within 2 % of p0 up to 0.9a (the finite depth and the penalty
+    penetration p0/ε_N ≈ 6e-8 m ≪ a shift p by well under 1 %); the last loaded node within one
+    element of a.
     """
     from skfem import MeshQuad
 

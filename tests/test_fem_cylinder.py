@@ -1,7 +1,7 @@
 """Thick-walled cylinder under internal pressure: plane strain, Mises, perfectly plastic.
 
-a = 100 mm, b = 200 mm, f_y = 345 MPa, E = 200 GPa, ν = 0.3 (quarter model, Q1 B-bar).
-Closed forms (Hill 1950, Ch. V; reference fem.md §5.3), written out here:
+a = 100 mm, b = 200 mm, f_y = 345 MPa, E = 200 GPa, ν = 0.3 (quarter model, Q1 B-bar). Closed forms
+(Hill 1950, Ch. V; docs/theory/finite-elements.md, "Oracles used by the tests"), written out here:
 
 * elastic (Lamé), plane strain: σ_r = A − B/r², σ_θ = A + B/r², σ_z = 2νA,
   A = p a²/(b² − a²), B = p a² b²/(b² − a²); u_r(r) = (1+ν)/E [(1−2ν)A r + B/r];
@@ -10,7 +10,7 @@ Closed forms (Hill 1950, Ch. V; reference fem.md §5.3), written out here:
 * plastic radius c: p = k[2 ln(c/a) + 1 − c²/b²], k = f_y/√3, and the outer displacement
   u_r(b) = 2(1 − ν²) k c²/(E b) (elastic ring c ≤ r ≤ b loaded by σ_θ − σ_r = 2k at r = c).
   Both are exact for an incompressible plastic zone; for ν = 0.3 they are within about 0.5 %
-  up to 0.9 p_L (fem.md §3.4).
+  up to 0.9 p_L (finite-elements.md, "Oracles").
 """
 
 import itertools
@@ -178,7 +178,7 @@ def pressure_run():
 def test_plastic_radius_and_outer_displacement(pressure_run):
     """Pressure-controlled loading to 0.5, 0.8, 0.9 p_L on a 24 × 12 mesh (650 dofs).
 
-    Tolerances from reference fem.md §5.3: 2 % on the plastic radius c (estimated from the
+    Tolerances from finite-elements.md, "Oracles": 2 % on the plastic radius c (estimated from the
     yielded area, so it is quantised by the Gauss-point rings, 2 mm here) and 0.5 % on u_r(b)
     up to 0.9 p_L (the closed form's own error for ν = 0.3 is below 0.2 % there).
     """

@@ -39,7 +39,8 @@ def zero_crossings(t, u, after):
 
 
 def test_hht_constants():
-    """β = (1 − α)²/4, γ = ½ − α, ρ∞ = (1 + α)/(1 − α) (Hilber et al. 1977); fem.md §5.9 lists
+    """β = (1 − α)²/4, γ = ½ − α, ρ∞ = (1 + α)/(1 − α) (Hilber et al. 1977);
+    docs/theory/finite-elements.md, Eq. F26, lists
     ρ∞ = 0.905, 0.538 at α = −0.05, −0.3 (3 digits); α outside [−1/3, 0] is rejected."""
     assert HHTParameters(-0.05).spectral_radius == pytest.approx(0.905, abs=5e-4)
     assert HHTParameters(-0.3).spectral_radius == pytest.approx(0.538, abs=5e-4)

@@ -2,12 +2,12 @@
 hinge at a rim root; the light bearing whose rims cannot yield is thrown out by uplift.
 
 Input: a 3 m/s² half-sine of 1 s, which the rigid model (same bearing) takes to the rims at a
-relative velocity of 1.05 m/s (first impact at t = 0.972 s) without failing (it cannot
-yield). Coarsest mesh (905 dofs, two elements across the rim) so the run takes ~20 s.
-The oracle for the failure itself is the rim's plastic capacity (fem.md §5.4): the root
-section, t = 40 mm thick, carries at most V_p = t·f_y/√3 per unit depth in shear, 2.5 MN for
-the model's depth — far below the ~40 MN peak force of the rigid model's Hertz contact at
-that velocity, so the rim cannot stay elastic.
+relative velocity of 1.05 m/s (first impact at t = 0.972 s) without failing (it cannot yield).
+Coarsest mesh (905 dofs, two elements across the rim) so the run takes ~20 s. The oracle for the
+failure itself is the rim's plastic capacity (docs/theory/finite-elements.md, Eqs. F40–F41): the
+root section, t = 40 mm thick, carries at most V_p = t·f_y/√3 per unit depth in shear, 2.5 MN for
+the model's depth — far below the ~40 MN peak force of the rigid model's Hertz contact at that
+velocity, so the rim cannot stay elastic.
 """
 
 import math

@@ -56,7 +56,7 @@ def test_uniaxial_strain_closed_form(material):
     """Uniaxial plane strain to 12 % through yield and the kink (at ε ≈ 7.7 %), in 600 steps.
 
     Tolerance 1e-10 relative: the path is proportional, so the return map is exact up to
-    round-off (reference fem.md §5.2).
+    round-off (docs/theory/finite-elements.md, "Oracles used by the tests").
     """
     E, nu = material.youngs_modulus, material.poisson_ratio
     G = E / (2 * (1 + nu))
@@ -288,7 +288,8 @@ def test_consistent_tangent_matches_finite_differences(material):
 # Prescribed biaxial strain history, plane strain: E = 250 GPa, ν = 0.25, σ_y = 5 MPa,
 # H = 0 or H = 62.5 GPa (plastic modulus, so E_t/E = H/(E + H) = 0.2). Strain path in 1e-4
 # and the reference σ_eq [MPa] at the end of each leg, from the Abaqus Benchmarks Manual,
-# "NL1: Prescribed biaxial strain history, plane strain" (see reference fem.md §3.3).
+# "NL1: Prescribed biaxial strain history, plane strain" (docs/theory/finite-elements.md,
+# "Oracles used by the tests").
 NL1_PATH = [(0.25, 0), (0.50, 0), (0.50, 0.25), (0.50, 0.50), (0.25, 0.50), (0, 0.50),
             (0, 0.25), (0, 0)]
 NL1_PERFECT = [5.000, 5.000, 5.000, 5.000, 5.000, 5.000, 3.917, 5.000]
@@ -352,7 +353,7 @@ def nl1_continuum(material, substeps=10000):
 def test_nafems_nl1(hardening):
     """NAFEMS NL1 against the published table and against an independent explicit integration.
 
-    Tolerances (reference fem.md §5.1): 0.1 % for perfect plasticity and for steps 1–4 with
+    Tolerances (finite-elements.md, "Oracles"): 0.1 % for perfect plasticity and for steps 1–4 with
     hardening; 1.5 % for steps 5–8 with hardening (the non-proportional legs, where the
     published values themselves differ from converged rate solutions by about 1 %). Against the
     explicit continuum integration 5e-4: both solve the same rate problem, so the difference is

@@ -127,8 +127,8 @@ def _hertz_damped_restitution(e, mass, v0):
 def test_contact_law_restitution(e, mass, v0):
     """Paper Eqs. 1–4 give the target restitution within ±0.02 for any mass and velocity.
 
-    Jankowski's ξ(e) is itself a fitted approximation (reference §4.1: e = 0.647 for 0.65),
-    hence ±0.02, the issue's tolerance.
+    Jankowski's ξ(e) is itself a fitted approximation (rigid-body.md, note after Eq. R18: e = 0.647
+    for 0.65), hence ±0.02, the issue's tolerance.
     """
     assert _hertz_damped_restitution(e, mass, v0) == pytest.approx(e, abs=0.02)
 

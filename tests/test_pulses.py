@@ -1,4 +1,5 @@
-"""Ricker pulses (paper Eqs. 5–6) against the closed forms of reference/signals.md §2.1."""
+"""Ricker pulses (paper Eqs. 5–6) against the closed forms of docs/theory/ground-motions.md,
+Eqs. M1–M7."""
 
 import math
 
@@ -30,7 +31,7 @@ def test_velocity_and_displacement_are_the_integrals(kind, period):
 
 
 def test_closed_form_peaks():
-    """Peak acceleration, PGV, PGD and energy of reference/signals.md §2.1 (4-5 digits there)."""
+    """Peak acceleration, PGV, PGD and energy of Eqs. M1–M7 (4-5 digits there)."""
     amp, tp = 2.0, 1.7
     t = np.linspace(-4 * tp, 4 * tp, 200001)
     sym = ricker(t, amp, tp)

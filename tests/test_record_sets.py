@@ -155,7 +155,7 @@ def test_manifest_errors(record_dir):
         read_manifest(folder / "scale.toml")
 
 
-# signals.md §3.6: an independent prototype (Ricker CWT, w = 1/√s, global maximum on a
+# An independent prototype (Ricker CWT, w = 1/√s, global maximum on a
 # 0.01 s scale grid, LS amplitude) on component a of five near-field pulse records.
 # (Tp [s], Ap [g], e_a, e_v) for acc-CWT symmetric, vel-CWT symmetric, vel-CWT antisymmetric.
 PROTOTYPE = {

@@ -334,7 +334,8 @@ def test_velocity_and_displacement_of_a_ricker_pulse():
     err_d = np.max(np.abs(m.displacement() - d_exact))
     assert err_v == pytest.approx(dt**2 / 12 * a_slope, rel=0.01)
     assert err_d == pytest.approx(dt**2 / 6 * ap, rel=0.01)
-    # PGV = 0.13652·Ap·Tp (signals.md §2.1); the sampled peak is within 1e-4 of it.
+    # PGV = 0.13652·Ap·Tp (docs/theory/ground-motions.md, Eq. M6); the sampled peak is within
+    # 1e-4 of it.
     assert m.pgv == pytest.approx(0.13652 * ap * tp, rel=1e-4)
 
 

@@ -1,9 +1,10 @@
 """Response spectra (Nigam–Jennings via lfilter) and scaling helpers.
 
 Three independent checks of the spectrum: scipy.signal.lsim (first-order hold, an exact
-discretisation computed by matrix exponential), the Ricker PSA table of signals.md §2.2
-(itself from two methods: N-J at dt = Tp/2000 and solve_ivp on the analytic forcing), and an
-undamped closed form (resonant sine). FEMA P695 comparisons live in test_record_sets.py.
+discretisation computed by matrix exponential), the Ricker PSA table of
+docs/theory/ground-motions.md (after Eq. M14) (itself from two methods: N-J at dt = Tp/2000 and
+solve_ivp on the analytic forcing), and an undamped closed form (resonant sine). FEMA P695
+comparisons live in test_record_sets.py.
 """
 
 import math
@@ -51,7 +52,7 @@ def test_state_matrices_against_matrix_exponential():
     np.testing.assert_allclose(a, expm(f * dt), rtol=1e-12, atol=1e-14)
 
 
-# signals.md §2.2: PSA/Ap of Ricker pulses, 5 % damping.
+# docs/theory/ground-motions.md, table after Eq. M14: PSA/Ap of Ricker pulses, 5 % damping.
 RICKER_PSA = {
     "symmetric": [1.1121, 1.7076, 2.3739, 2.0834, 1.5235, 1.0719, 0.5984, 0.2170, 0.1070],
     "antisymmetric": [1.0961, 1.8681, 2.9750, 2.7446, 2.0150, 1.3628, 0.6318, 0.2510, 0.1238],

@@ -1,9 +1,10 @@
 """Ricker pulse extraction by CWT (rigid.motions.pulse_extraction).
 
 Oracles: the direct (time-domain) correlation sum for the FFT transform; closed-form wavelet
-norms; exact recovery of synthetic pulses with w = 1/√s (signals.md §3.3, §3.7); the
-closed-form scale bias of w = 1/s and w = 1 (§3.4); the LS projection of the noise for
-pulses buried in broadband noise; the paper's Eqs. 8–9 recomputed here with trapezoids.
+norms; exact recovery of synthetic pulses with w = 1/√s (docs/theory/ground-motions.md, Eqs.
+M23–M24); the closed-form scale bias of w = 1/s and w = 1 (Eq. M25); the LS projection of the
+noise for pulses buried in broadband noise; the paper's Eqs. 8–9 recomputed here with
+trapezoids.
 """
 
 import math
@@ -30,7 +31,7 @@ def synthetic(kind, tp, seed, noise=None):
     dt and duration follow Tp so the record holds the pulse with ±3·Tp to spare:
     dt = 0.005 s (Tp < 1 s), 0.01 s (< 4 s), 0.02 s otherwise; duration max(20 s, 8·Tp).
     noise: None, "high" (band 2.5/Tp–10/Tp Hz, above the pulse's band) or "broad"
-    (0.2–10 Hz, overlapping it); peak 25 % of |Ap| (signals.md §3.7).
+    (0.2–10 Hz, overlapping it); peak 25 % of |Ap| (this test's choice).
     """
     rng = np.random.default_rng(seed)
     dt = 0.005 if tp < 1 else (0.01 if tp < 4 else 0.02)
@@ -96,7 +97,7 @@ def test_wavelet_norms(key):
 @pytest.mark.parametrize("source", SOURCES)
 @pytest.mark.parametrize("kind", KINDS)
 def test_coefficient_gives_the_amplitude(kind, source, weighting, p):
-    # signals.md §1.3/§3.2: at any (s, ξ) the LS amplitude is Ap = C/(w(s)·s·‖ψ‖²) on
+    # Eqs. M22–M23: at any (s, ξ) the LS amplitude is Ap = C/(w(s)·s·‖ψ‖²) on
     # acceleration and C/(w(s)·s²·‖Ψ‖²) on velocity. Pulse.coefficient is taken at the grid
     # maximum (within half a grid step and half a sample of the polished point, where C is
     # stationary) and the velocity wavelet is continuous while v is trapezoidal: both
@@ -116,7 +117,7 @@ def test_coefficient_gives_the_amplitude(kind, source, weighting, p):
 @pytest.mark.parametrize("tp", PERIODS)
 @pytest.mark.parametrize("kind", KINDS)
 def test_pure_pulse_recovered_exactly(kind, tp, source):
-    # w = 1/√s: max |C| is at the true (s, ξ) (signals.md §3.3). The grid maximum is
+    # w = 1/√s: max |C| is at the true (s, ξ) (Eq. M24). The grid maximum is
     # polished on the normalised projection |⟨x, T⟩|/‖T‖ with the sampled template T, which a
     # sampled pulse maximises exactly (Cauchy–Schwarz) and whose logarithm is even in ln s
     # about the truth, so parabolic steps land on it (measured ≤ 3e-8 on velocity, 1e-14 on
@@ -150,7 +151,7 @@ def test_pulse_in_high_frequency_noise(kind, tp, source):
 def test_pulse_in_broadband_noise_matches_projection(kind, tp):
     # Noise 0.2–10 Hz overlaps the pulse's band, so no estimator can return Ap itself: the
     # LS amplitude at the true (s, ξ) is Ap + ⟨n, ψ⟩/‖ψ‖², computed here from the known
-    # noise. Tolerances: kind exact; Tp 3 % (signals.md §3.7); Ap within 2 % of |Ap| of that
+    # noise. Tolerances: kind exact; Tp 3 % (this test's choice); Ap within 2 % of |Ap| of that
     # projection (the residual comes from the small shift of (s, ξ); measured ≤ 0.9 %, and
     # Tp ≤ 1.7 %).
     t, a, dt, ap, t0 = synthetic(kind, tp, seed=200 + int(tp * 10), noise="broad")
@@ -176,7 +177,7 @@ ORDER = {
 @pytest.mark.parametrize("source", SOURCES)
 @pytest.mark.parametrize("kind", KINDS)
 def test_scale_bias_closed_form(kind, source, weighting, p):
-    # signals.md §3.4: correlating two n-th Gaussian derivatives of widths s0 and s gives
+    # Eq. M25: correlating two n-th Gaussian derivatives of widths s0 and s gives
     # ∝ (s0 s)^(n+1)/(s0² + s²)^(n+½); with w = s^(−p) the maximum is at
     # r² = (s/s0)² = (n + 1 − p)/(n + p). Acceleration: r = 0.8165/1.2247 (symmetric) and
     # 0.8660/1.1547 (antisymmetric) for 1/s and 1; 1/√s gives r = 1. The closed form is for
