@@ -1,18 +1,7 @@
-r"""Plane-strain bilinear quadrilaterals (Q1) with the B-bar (mean dilatation) strain.
-
-The symmetric gradient of the vector Q1 field is written as a Mandel 4-vector
-``[ε_xx, ε_yy, ε_zz, √2 ε_xy]`` (ε_zz = 0 in plane strain) through a strain–displacement array
-``B[i, a, e, q]`` (component i, local basis function a, element e, quadrature point q; Eq. F10
-of docs/theory/finite-elements.md). With B-bar, the volumetric part is replaced by its element
-average (Hughes 1980, IJNME 15:1413; Hughes 2000, *The Finite Element Method*, §4.5; Eq. F11)::
-
-    ε̄ = ε − (θ − θ̄)/3 · 1,   θ = tr ε = div u,   θ̄ = ∫_e θ dx / ∫_e dx,
-
-so that ε̄_zz = (θ̄ − θ)/3 is not zero point-wise but averages to zero over each element. This
-removes volumetric locking under incompressible plastic flow.
-
-The element matrices (Eq. F12) are built with batched matrix products from ``B`` (computed once
-from a scikit-fem :class:`skfem.CellBasis`) and scattered into a CSR pattern computed once.
+r"""Plane-strain bilinear quadrilaterals (Q1) with the B-bar (mean dilatation) strain: the
+strain–displacement array ``B`` in Mandel rows ``[ε_xx, ε_yy, ε_zz, √2 ε_xy]`` computed once from
+a scikit-fem basis, strains, internal forces and the tangent by batched products scattered into
+a CSR pattern computed once (docs/theory/finite-elements.md, Eqs. F10–F12).
 """
 
 from __future__ import annotations

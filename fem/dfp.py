@@ -1,20 +1,7 @@
-r"""The DFP bearing as a plane-strain FE system: mesh, slider, constraints, masses, loads.
-
-Mapping the 3-D bearing to 2-D plane strain (all FE quantities are per unit depth;
-docs/theory/finite-elements.md, Eqs. F1–F3):
-
-* The model has an out-of-plane depth ``depth = A/b = πb/4`` (A the slider's bearing area,
-  b its diameter). A pressure p on the slider's chord b then carries exactly the 3-D load:
-  p·b·depth = p·A = W. The supported mass per unit depth is M/depth = p·b/g, the slider's
-  m_s/depth and J/depth. The rims are continuous walls of that depth: a conservative
-  simplification of a circular rim, whose hoop action the 2-D model cannot represent.
-* Nodal forces and reactions are per unit depth [N/m]; multiply by ``depth`` for newtons.
-
-Constraints (relative frame: the bottom support follows the ground): the ``support`` nodes
-are fixed; the nodes of ``block_top`` are tied to two master dofs (X_T, Z_T), so the block
-and top plate cannot rotate as a whole (the paper's "mass block with rotational degree of
-freedom constrained"); the superstructure mass M/depth, less the steel of the top plate and
-block already in the mesh, is lumped on the masters. The slider is rigid (3 dofs).
+r"""The DFP bearing as a plane-strain FE system: mesh, plates and rims (small strain or finite
+deformation), the rigid slider and its contacts, the supported block tied to two master dofs,
+lumped masses, weights and the ground's influence vector, all per unit out-of-plane depth
+πb/4 (docs/theory/finite-elements.md, Eqs. F1–F3, F21–F22).
 """
 
 from __future__ import annotations

@@ -1,23 +1,7 @@
-r"""The finite-deformation counterpart of the B-bar quadrilateral: Q1 with a mean dilatation.
-
-Total Lagrangian: the unknowns are displacements from the reference mesh, gradients are taken
-with respect to the reference coordinates X, and each element uses its quadrature points'
-in-plane deformation gradients F = 1 + ∇_X u with their volume change replaced by the element's
-mean J̄ = ∫_e J dV₀ / ∫_e dV₀ (Nagtegaal, Parks & Rice 1974; Simo, Taylor & Pister 1985;
-docs/theory/finite-elements.md, "Finite deformation"):
-
-    F̄ = (J̄/J)^{1/3} F   (its zz stretch (J̄/J)^{1/3} too),
-
-the finite-strain form of the B-bar strain of :mod:`fem.assembly`, to which it linearises
-exactly at u = 0. The internal force is f = ∫ Ĝᵀ P* dV₀ with P* = (J/J̄) τ̄ F⁻ᵀ the stress of
-:func:`fem.hencky.update` (σ(F̄) integrated over the current volume), and its consistent
-tangent is
-
-    K_e = Σ_q w_q Ĝ_qᵀ A_q Ĝ_q + p_J g_Jᵀ,   A = ∂P*/∂F,   p_J = Σ_q w_q Ĝ_qᵀ ∂P*/∂J̄,
-    g_J = ∂J̄/∂u_e = Σ_q (w_q/V_e) J_q Ĝ_qᵀ vec(F_q⁻ᵀ),
-
-Ĝ the reference gradient operator (rows ∂u_x/∂X, ∂u_x/∂Y, ∂u_y/∂X, ∂u_y/∂Y) and w_q the
-quadrature weights; A and ∂P*/∂J̄ come from :func:`fem.hencky.tangent`.
+r"""The finite-deformation counterpart of the B-bar quadrilateral: total-Lagrangian Q1 with the
+element's mean dilatation (F̄ = (J̄/J)^{1/3} F), its internal force and consistent element
+tangent, and which elements need their exact tangent in Newton's solves
+(docs/theory/finite-elements.md, Eqs. F43, F47, F49).
 """
 
 from __future__ import annotations

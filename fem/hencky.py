@@ -1,26 +1,9 @@
-r"""Finite-strain J2 plasticity with Hencky elasticity and the exponential-map return, at
-quadrature points (plane strain), and its consistent tangent by complex-step differentiation.
-
-The multiplicative model of Simo (1992) and Eterovic & Bathe (1990) in the form of de Souza Neto,
-Perić & Owen (2008, Box 14.3; docs/theory/finite-elements.md, "Finite deformation"): with the
-plastic history C_p⁻¹ (reference frame) and the equivalent plastic strain p,
-
-    b_e^tr = F̄ C_p⁻¹ F̄ᵀ,     ε_e^tr = ½ ln b_e^tr,
-    (τ, Δε^p, p_{n+1}) = radial return of ε_e^tr from p_n     (:func:`fem.material.radial_return`),
-    b_e = exp(2(ε_e^tr − Δε^p)),    C_p⁻¹ = F̄⁻¹ b_e F̄⁻ᵀ,
-
-τ the Kirchhoff stress, so the small-strain return map is applied unchanged to logarithmic
-strains. F̄ = (J̄/J)^{1/3} F is the mean-dilatation gradient of :class:`fem.finite_element.
-FiniteStrainQ1` (F with its zz stretch 1 in plane strain), so the stress conjugate to the plane
-displacement gradient is P* = (J/J̄) τ̄ F⁻ᵀ (in-plane block). In plane strain ``zz`` is a
-principal direction; the in-plane logarithm and exponential of symmetric 2 × 2 tensors are the
-closed forms of :func:`log_sym2` and :func:`exp_sym2`, analytic in the components, so that the
-update can be differentiated exactly with a complex step (Squire & Trapp 1998; Tanaka et al.
-2014) to give the consistent tangent (:func:`tangent`).
-
-Arrays are components first, then any trailing shape (e.g. ``(nelems, nqp)``): 2 × 2 tensors as
-``(2, 2, ...)``, symmetric plane-strain tensors as ``[xx, yy, zz, xy]`` (plain components for
-C_p⁻¹) or Mandel ``[xx, yy, zz, √2 xy]`` (strains and stresses of the return map).
+r"""Finite-strain J2 plasticity at quadrature points (plane strain): Hencky elasticity with the
+exponential-map return, which applies the small-strain radial return of :mod:`fem.material`
+unchanged to logarithmic strains, and its consistent tangent by complex-step differentiation
+(docs/theory/finite-elements.md, Eqs. F43–F50). Arrays are components first, then any trailing
+shape: 2 × 2 tensors ``(2, 2, ...)``, the history C_p⁻¹ as components ``[xx, yy, zz, xy]``,
+strains and stresses in Mandel form ``[xx, yy, zz, √2 xy]``.
 """
 
 from __future__ import annotations

@@ -1,31 +1,8 @@
-r"""Newton's linear solves for the HHT-α iteration: a cached elastic factorization plus a
-low-rank (Woodbury) correction for what is not elastic (docs/theory/finite-elements.md,
-"Linear solves", Eqs. F32–F35).
-
-Each Newton iteration of :mod:`fem.dynamics` solves, for the reduced unknowns,
-
-    (c₀ M + s K) x = r,      K = Pᵀ (K_mat + K_c) P,   c₀ = 1/(βΔt²),  s = 1 + α.
-
-Most of the plates stay elastic: K_mat = K_el + ΔK_mat, where ΔK_mat is non-zero only on
-elements that load plastically in this iteration, and the contact tangent K_c only on the
-active slave nodes and the slider's three dofs. So
-
-    A x + E W Eᵀ x = r,   A = c₀ M + s K_el   (symmetric positive definite, fixed for a given Δt),
-
-with E selecting the few reduced dofs S touched by contact (nodes and slider vertices) or
-plasticity and W the dense
-|S| × |S| block of s (ΔK_mat + K_c) (unsymmetric when nodes slip). The Woodbury identity
-(Golub & Van Loan 2013, §2.1.4), in the form that needs no inverse of W,
-
-    x = y − C (I + W G)⁻¹ W y_S,   y = A⁻¹ r,   C = A⁻¹ E,   G = Eᵀ C,
-
-needs one back-substitution with the sparse LU of A, the columns C (computed once per dof and
-kept while Δt does not change) and a dense solve of size |S|, small against the number of
-unknowns. The result is then polished by iterative refinement
-against the exact matrix (residual r − (A + E W Eᵀ)x, itself solved the same way) until the
-relative residual is at the round-off level of a direct sparse solve; if that fails the
-solver falls back to a direct sparse LU of the assembled matrix. The linear systems are the
-same as those of a direct solve of the assembled tangent: only the way they are solved differs.
+r"""Newton's linear solves for the HHT-α iteration, (c₀M + sK)x = r: a sparse LU of the elastic
+matrix cached per step size, plus a low-rank (Woodbury) update for the few degrees of freedom
+that contact, plasticity or finite deformation touch, polished by iterative refinement against
+the exact matrix and backed by a direct sparse solve (docs/theory/finite-elements.md, Eqs.
+F32–F35). The linear systems are those of a direct solve; only the way they are solved differs.
 """
 
 from __future__ import annotations

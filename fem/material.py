@@ -1,23 +1,8 @@
-r"""Plane-strain J2 plasticity with capped linear isotropic hardening.
-
-Radial return (Wilkins 1964; Simo & Hughes 1998, *Computational Inelasticity*, Box 3.2) with
-the consistent (algorithmic) tangent (Simo & Taylor 1985, CMAME 48:101; de Souza Neto, Perić &
-Owen 2008, *Computational Methods for Plasticity*, Boxes 7.3–7.4), vectorised over quadrature
-points; docs/theory/finite-elements.md, Eqs. F4–F9.
-
-Tensors are Mandel 4-vectors ``[xx, yy, zz, √2·xy]`` (components first, then any trailing
-shape such as ``(nelems, nqp)``), so that ``a : b = a · b`` and the tangent is a symmetric
-4 × 4 matrix per point. Plane strain means the *total* ε_zz = 0, but the plastic ε^p_zz is not
-zero, so the zz component is carried throughout.
-
-The flow stress is piecewise linear in the equivalent plastic strain p::
-
-    σ_y(p) = min(f_y + H p, f_u),   H = E E_t / (E − E_t),   E_t = r E,
-
-i.e. a bilinear uniaxial curve from f_y with tangent modulus E_t up to f_u, perfectly plastic
-after. H is the plastic modulus of the uniaxial curve (dσ/dε^p). The kink at
-p_u = (f_u − f_y)/H is handled exactly: the linear consistency equation is solved on the
-hardening branch first and, if its root lies beyond p_u, on the flat branch.
+r"""Plane-strain J2 plasticity with capped linear isotropic hardening at quadrature points: the
+material (:class:`Material`), its history, the radial return (one Numba point kernel, real or
+complex, shared by the small- and finite-strain models) and the consistent tangent, on Mandel
+4-vectors ``[xx, yy, zz, √2·xy]`` with the zz component carried throughout
+(docs/theory/finite-elements.md, Eqs. F4–F9).
 """
 
 from __future__ import annotations

