@@ -1,11 +1,7 @@
-"""Newton–Raphson for one quasi-static increment of small-strain elastoplasticity.
-
-The return map is always evaluated from the last *converged* history (backward Euler over the
-increment), so iterations never accumulate plastic strain; the trial history returned with a
-converged solution is committed by the caller (Simo & Hughes 1998, §3.3; Box 3.1 for the
-global/local split). With the consistent tangent (docs/theory/finite-elements.md, Eq. F9) the
-iteration converges quadratically.
-"""
+"""Newton–Raphson for one quasi-static load increment of elastoplastic plates (small strain or
+finite deformation), from the last converged history, whose trial update the caller commits
+once converged; with the consistent tangent (docs/theory/finite-elements.md, Eqs. F9, F49) it
+converges quadratically (Simo & Hughes 1998, §3.3, Box 3.1)."""
 
 from __future__ import annotations
 
@@ -26,10 +22,10 @@ class NewtonResult:
     ----------
     displacement : ndarray, shape (ndofs,) [m]
         Displacement at the last iterate.
-    state : MaterialState
+    state : MaterialState or fem.hencky.FiniteState
         Trial history at the last iterate; commit it only if ``converged``.
     stress : ndarray, shape (4, nelems, nqp) [Pa]
-        Mandel stress at the last iterate.
+        Mandel (Cauchy) stress at the last iterate.
     internal_force : ndarray, shape (ndofs,) [N/m]
         f_int at the last iterate; on constrained dofs it is the reaction.
     converged : bool
@@ -65,12 +61,13 @@ def solve_increment(
 
     Parameters
     ----------
-    discretisation : PlaneStrainQ1
-        Element technology and assembly.
+    discretisation : PlaneStrainQ1 or fem.finite_element.FiniteStrainQ1
+        Element technology and assembly (small strain, or finite deformation).
     material : Material
         Elastoplastic parameters (the same at every quadrature point).
-    state : MaterialState
-        Converged history at the start of the increment, arrays of shape (…, nelems, nqp).
+    state : MaterialState or fem.hencky.FiniteState
+        Converged history at the start of the increment, arrays of shape (…, nelems, nqp)
+        (:class:`~fem.hencky.FiniteState` with finite deformation).
     displacement : ndarray, shape (ndofs,) [m]
         Converged displacement at the start of the increment (initial iterate).
     external_force : ndarray, shape (ndofs,) [N/m]
@@ -99,9 +96,13 @@ def solve_increment(
     f_ext_norm = np.linalg.norm(external_force)
     residuals = []
     iterations = 0
+    finite = getattr(discretisation, "kinematics", "small") == "finite"
     while True:
-        res = return_map(material, discretisation.strain(u), state)
-        f_int = discretisation.internal_force(res.stress)
+        if finite:
+            res, f_int = discretisation.evaluate(material, u, state)
+        else:
+            res = return_map(material, discretisation.strain(u), state)
+            f_int = discretisation.internal_force(res.stress)
         r = external_force - f_int
         scale = max(f_ext_norm, np.linalg.norm(f_int))
         rel = np.linalg.norm(r[free]) / scale if scale > 0 else 0.0
@@ -111,7 +112,8 @@ def solve_increment(
             return NewtonResult(
                 u, res.state, res.stress, f_int, bool(converged), iterations, tuple(residuals)
             )
-        K = discretisation.stiffness(res.tangent)
+        K = (discretisation.finite_stiffness(material, res) if finite
+             else discretisation.stiffness(res.tangent))
         u = u + solve(*condense(K, r, x=du_fixed, D=fixed_dofs))
         du_fixed[:] = 0.0
         pending_bc = False
