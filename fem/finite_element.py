@@ -101,11 +101,14 @@ class FiniteStrainQ1(PlaneStrainQ1):
         Returns
         -------
         FiniteEvaluation, ndarray
-            The evaluation and the internal force f = ∫ Ĝᵀ P* dV₀ [N/m], per unit depth.
+            The evaluation and the internal force f = ∫ Ĝᵀ P* dV₀ [N/m], per unit depth (NaN
+            if any element is inverted, J ≤ 0, which Newton treats as divergence).
         """
-        F, _, jbar = self.deformation(u)
+        F, J, jbar = self.deformation(u)
         res = hencky.update(material, F, jbar, state)
         force = self._GmatT @ (res.first_piola.reshape(4, *self.dx.shape) * self.dx).ravel()
+        if not (J > 0.0).all():  # an inverted element is no deformation: mark the iterate
+            force[:] = np.nan  # invalid, so that Newton rejects it (and the step is cut)
         ev = FiniteEvaluation(res.cauchy, res.kirchhoff, res.state, res.plastic, F, jbar, state)
         return ev, force
 

@@ -5,6 +5,7 @@ converges quadratically (Simo & Hughes 1998, §3.3, Box 3.1)."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -105,7 +106,10 @@ def solve_increment(
             f_int = discretisation.internal_force(res.stress)
         r = external_force - f_int
         scale = max(f_ext_norm, np.linalg.norm(f_int))
-        rel = np.linalg.norm(r[free]) / scale if scale > 0 else 0.0
+        if not np.isfinite(f_int).all():  # an invalid iterate (inverted elements): diverged
+            rel = math.inf
+        else:
+            rel = np.linalg.norm(r[free]) / scale if scale > 0 else 0.0
         residuals.append(float(rel))
         converged = not pending_bc and rel <= rtol
         if converged or iterations >= max_iter or not np.isfinite(rel):
