@@ -151,7 +151,8 @@ def test_manifest_errors(record_dir):
     with pytest.raises(rigid.RecordFormatError, match=r"line 2: record file .* does not exist"):
         read_manifest(folder / "missing.csv")
     (folder / "scale.toml").write_text('[[record]]\npath = "TAK090.AT2"\nscale = "big"\n')
-    with pytest.raises(rigid.RecordFormatError, match=r"\[\[record\]\] 1: expected numbers"):
+    with pytest.raises(rigid.RecordFormatError,
+                       match=r"\[\[record\]\] 1: expected a number for 'scale'"):
         read_manifest(folder / "scale.toml")
 
 

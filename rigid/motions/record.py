@@ -14,21 +14,32 @@ from ..units import G
 __all__ = ["GroundMotion", "RecordFormatError", "cumulative_integral"]
 
 class RecordFormatError(ValueError):
-    """A record file does not have the expected format.
+    """A record or manifest file does not have the expected format, or holds implausible
+    values (docs/limits.md).
 
-    The message names the file, the (1-based) line and what was expected there.
+    The message names the file, the (1-based) line and what was expected there; ``note``
+    (e.g. the encoding the file was decoded with) is appended in brackets.
     """
 
-    def __init__(self, path, line: int | str | None, message: str):
+    def __init__(self, path, line: int | str | None, message: str, note: str = ""):
         self.path = str(path)
         self.line = line
+        self.message = message
+        self.note = note
         if line is None:
             where = self.path
         elif isinstance(line, str):  # another kind of location, e.g. "[[record]] 2"
             where = f"{self.path}, {line}"
         else:
             where = f"{self.path}, line {line}"
-        super().__init__(f"{where}: {message}")
+        super().__init__(f"{where}: {message}" + (f" ({note})" if note else ""))
+
+    def with_note(self, note: str) -> RecordFormatError:
+        """The same error with ``note`` added."""
+        return RecordFormatError(self.path, self.line, self.message, note)
+
+    def __reduce__(self):  # picklable across worker processes
+        return (RecordFormatError, (self.path, self.line, self.message, self.note))
 
 
 @dataclass(frozen=True, eq=False)

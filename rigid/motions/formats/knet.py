@@ -2,11 +2,21 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
 from ..record import GroundMotion, RecordFormatError
-from .text import NUMBER, parse_block, read_lines
+from .text import (
+    NUMBER,
+    acceleration_bound,
+    check_dt,
+    excerpt,
+    make_motion,
+    names_encoding,
+    parse_block,
+    read_lines,
+)
 
 _KNET_KEYS = {
     "origin time": "origin_time",
@@ -31,6 +41,7 @@ _KNET_KEYS = {
 }
 
 
+@names_encoding
 def read_knet(path, name: str | None = None, remove_mean: bool = True) -> GroundMotion:
     """Read a K-NET or KiK-net ASCII file (one component, 17 header lines).
 
@@ -71,27 +82,39 @@ def read_knet(path, name: str | None = None, remove_mean: bool = True) -> Ground
     m = re.match(r"(\d+(?:\.\d*)?)\s*Hz", text, re.IGNORECASE)
     if not m or float(m.group(1)) <= 0:
         raise RecordFormatError(
-            path, line_no, f"expected 'Sampling Freq(Hz) 100Hz', found {text!r}"
+            path, line_no, f"expected 'Sampling Freq(Hz) 100Hz', found {excerpt(text)}"
         )
-    dt = 1.0 / float(m.group(1))
+    dt = check_dt(path, line_no, 1.0 / float(m.group(1)), "Sampling Freq(Hz)")
     line_no, text = header["scale_factor"]
     m = re.match(rf"({NUMBER})\s*\(\s*([^)]+)\)\s*/\s*({NUMBER})", text)
     if not m:
         raise RecordFormatError(
-            path, line_no, f"expected 'Scale Factor 7845(gal)/8223790', found {text!r}"
+            path, line_no, f"expected 'Scale Factor 7845(gal)/8223790', found {excerpt(text)}"
         )
     if m.group(2).strip().lower() != "gal":
-        raise RecordFormatError(path, line_no, f"wrong units {m.group(2)!r}: expected (gal)")
-    gain = float(m.group(1)) / float(m.group(3))
-    counts = parse_block(path, lines, first_data, None, per_line=8)
+        raise RecordFormatError(path, line_no,
+                                f"wrong units {excerpt(m.group(2), 20)}: expected (gal)")
+    numerator, denominator = (float(m.group(k).replace("D", "E").replace("d", "e"))
+                              for k in (1, 3))
+    if not (0 < numerator < float("inf") and 0 < denominator < float("inf")):
+        raise RecordFormatError(path, line_no, "expected a positive, finite scale factor "
+                                f"(gal per count), found {excerpt(text)}")
+    gain = numerator / denominator
+    if not gain > 0:
+        raise RecordFormatError(path, line_no, f"scale factor {excerpt(text)} is zero")
+    counts = parse_block(path, lines, first_data, None, per_line=8,
+                         bound=acceleration_bound(0.01 * gain))
     if "duration" in header:
         line_no, text = header["duration"]
         try:
             duration = float(text)
         except ValueError:
             raise RecordFormatError(
-                path, line_no, f"expected a duration in s, found {text!r}"
+                path, line_no, f"expected a duration in s, found {excerpt(text)}"
             ) from None
+        if not (math.isfinite(duration) and duration >= 0):
+            raise RecordFormatError(path, line_no,
+                                    f"expected a duration in s, found {excerpt(text)}")
         expected = round(duration / dt)
         if counts.size < expected - 1:  # NIED files hold duration·fs samples (± 1)
             raise RecordFormatError(
@@ -105,7 +128,9 @@ def read_knet(path, name: str | None = None, remove_mean: bool = True) -> Ground
         acc_gal = acc_gal - acc_gal.mean()
     station = header.get("station", (0, ""))[1]
     direction = header.get("direction", (0, ""))[1]
-    return GroundMotion(
+    return make_motion(
+        path,
+        len(lines),
         name=name or f"{station}_{direction}".strip("_") or Path(path).stem,
         dt=dt,
         acceleration=acc_gal * 0.01,

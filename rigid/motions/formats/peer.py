@@ -5,15 +5,27 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from ...limits import MAX_RECORD_SAMPLES
 from ...units import to_si
 from ..record import GroundMotion, RecordFormatError
-from .text import NUMBER, parse_block, read_lines
+from .text import (
+    NUMBER,
+    acceleration_bound,
+    check_dt,
+    excerpt,
+    make_motion,
+    names_encoding,
+    parse_block,
+    read_lines,
+    too_many_samples,
+)
 
 _NGA_WEST2 = re.compile(rf"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*({NUMBER})", re.IGNORECASE)
 _NGA_OLD = re.compile(rf"^\s*(\d+)\s*,?\s+({NUMBER})\s+.*NPTS\s*,\s*DT", re.IGNORECASE)
 _UNITS_LINE = re.compile(r"UNITS\s+OF\s+([A-Za-z][A-Za-z/^*0-9]*)", re.IGNORECASE)
 
 
+@names_encoding
 def read_peer_at2(path, name: str | None = None) -> GroundMotion:
     """Read a PEER NGA strong-motion acceleration file (``.AT2``).
 
@@ -42,7 +54,8 @@ def read_peer_at2(path, name: str | None = None) -> GroundMotion:
         raise RecordFormatError(
             path,
             3,
-            f"expected 'ACCELERATION TIME SERIES IN UNITS OF …', found {kind_line.strip()!r}",
+            "expected 'ACCELERATION TIME SERIES IN UNITS OF …', found "
+            f"{excerpt(kind_line.strip())}",
         )
     m = _UNITS_LINE.search(kind_line)
     if not m:
@@ -52,7 +65,8 @@ def read_peer_at2(path, name: str | None = None) -> GroundMotion:
         factor = to_si(units)
     except ValueError:
         raise RecordFormatError(
-            path, 3, f"wrong units {units!r}: expected acceleration units (G, CM/S/S, GAL)"
+            path, 3,
+            f"wrong units {excerpt(units, 20)}: expected acceleration units (G, CM/S/S, GAL)",
         ) from None
     header = lines[3]
     m = _NGA_WEST2.search(header) or _NGA_OLD.search(header)
@@ -60,15 +74,22 @@ def read_peer_at2(path, name: str | None = None) -> GroundMotion:
         raise RecordFormatError(
             path, 4, "expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT' (missing DT or NPTS)"
         )
-    npts, dt = int(m.group(1)), float(m.group(2).replace("D", "E"))
+    if len(m.group(1)) > 9:
+        raise RecordFormatError(path, 4, f"NPTS={excerpt(m.group(1), 12)}: {too_many_samples()}")
+    npts, dt = int(m.group(1)), float(m.group(2).replace("D", "E").replace("d", "e"))
     if not dt > 0:
-        raise RecordFormatError(path, 4, f"expected a positive DT, found {m.group(2)}")
-    acc = parse_block(path, lines, 4, npts)
+        raise RecordFormatError(path, 4, f"expected a positive DT, found {excerpt(m.group(2))}")
+    check_dt(path, 4, dt, "DT")
+    if npts > MAX_RECORD_SAMPLES:
+        raise RecordFormatError(path, 4, f"NPTS={npts}: {too_many_samples()}")
+    acc = parse_block(path, lines, 4, npts, bound=acceleration_bound(factor))
     parts = [p.strip() for p in lines[1].split(",")]
     event = parts[0] if parts else ""
     station = parts[-2] if len(parts) >= 4 else ""
     component = parts[-1] if len(parts) >= 4 else ""
-    return GroundMotion(
+    return make_motion(
+        path,
+        len(lines),
         name=name or Path(path).stem,
         dt=dt,
         acceleration=acc * factor,

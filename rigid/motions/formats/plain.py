@@ -8,11 +8,22 @@ from pathlib import Path
 
 import numpy as np
 
+from ...limits import MAX_RECORD_SAMPLES
 from ...units import to_si
 from ..record import GroundMotion, RecordFormatError
-from .text import read_lines
+from .text import (
+    acceleration_bound,
+    check_dt,
+    excerpt,
+    implausible,
+    make_motion,
+    names_encoding,
+    read_lines,
+    too_many_samples,
+)
 
 
+@names_encoding
 def read_plain(
     path, dt: float | None = None, units: str | None = None, name: str | None = None
 ) -> GroundMotion:
@@ -37,12 +48,18 @@ def read_plain(
     -------
     GroundMotion
     """
+    lines = read_lines(path)
     if units is None:
         raise RecordFormatError(
             path, None, "missing units: plain text records carry none; pass units='g', 'm/s2', …"
         )
-    factor = to_si(units)
-    lines = read_lines(path)
+    try:
+        factor = to_si(units)
+    except ValueError as exc:
+        raise RecordFormatError(path, None, str(exc)) from None
+    if dt is not None:
+        dt = check_dt(path, None, float(dt), "the given dt")
+    bound = acceleration_bound(factor)
     rows, line_nos = [], []
     for i, line in enumerate(lines):
         text = line.split("#")[0].strip()
@@ -52,17 +69,25 @@ def read_plain(
         try:
             row = [float(t) for t in tokens]
         except ValueError:
-            raise RecordFormatError(path, i + 1, f"expected numbers, found {text!r}") from None
+            raise RecordFormatError(path, i + 1, f"expected numbers, found {excerpt(text)}"
+                                    ) from None
         if not all(math.isfinite(x) for x in row):
-            raise RecordFormatError(path, i + 1, f"expected finite numbers, found {text!r}")
+            raise RecordFormatError(path, i + 1,
+                                    f"expected finite numbers, found {excerpt(text)}")
         if rows and len(row) != len(rows[0]):
             raise RecordFormatError(
                 path, i + 1, f"expected {len(rows[0])} columns as above, found {len(row)}"
             )
         if len(row) not in (1, 2):
             raise RecordFormatError(path, i + 1, f"expected 1 or 2 columns, found {len(row)}")
+        if abs(row[-1]) > bound:
+            raise RecordFormatError(path, i + 1, implausible(tokens[-1], abs(row[-1]) / bound))
         rows.append(row)
         line_nos.append(i + 1)
+        if len(rows) > MAX_RECORD_SAMPLES:
+            raise RecordFormatError(path, i + 1, too_many_samples())
+    if not rows:
+        raise RecordFormatError(path, None, "expected numbers; the file has only comments")
     data = np.array(rows)
     if data.shape[1] == 2:
         steps = np.diff(data[:, 0])
@@ -76,13 +101,15 @@ def read_plain(
             )
         if dt is not None and abs(dt - step) > 1e-6 * step:
             raise RecordFormatError(path, line_nos[1], f"time column gives dt={step:g}, not {dt:g}")
-        dt = step
+        dt = check_dt(path, line_nos[1], step, "the time column")
         acc = data[:, 1]
     else:
         if dt is None:
             raise RecordFormatError(path, None, "missing DT: a one-column file needs dt=… [s]")
         acc = data[:, 0]
-    return GroundMotion(
+    return make_motion(
+        path,
+        line_nos[-1],
         name=name or Path(path).stem,
         dt=float(dt),
         acceleration=acc * factor,
