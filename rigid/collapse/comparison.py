@@ -35,9 +35,12 @@ def comparison_rows(actual, predictions) -> list[dict]:
     -------
     list of dict
         ``record``, ``record_sa_g``, ``actual_sa_g`` (NaN without failure),
-        ``resurrected``, ``rungs``; per criterion c: ``kind_c``, ``tp_c`` [s], ``ap_c_g``
-        (|Ap| of the unscaled record), ``e_a_c``, ``e_v_c``, ``predicted_sa_g_c``,
-        ``error_c`` = predicted/actual − 1.
+        ``resurrected``, ``rungs``, ``numerical_rungs`` (rungs whose integration stayed
+        unstable: neither failures nor survivals), ``uncertain`` (the actual critical SA
+        depends on them, :attr:`CriticalSA.uncertain`); per criterion c: ``kind_c``,
+        ``tp_c`` [s], ``ap_c_g`` (|Ap| of the unscaled record), ``e_a_c``, ``e_v_c``,
+        ``predicted_sa_g_c``, ``error_c`` = predicted/actual − 1, ``uncertain_c`` (the
+        prediction depends on numerical rungs).
     """
     rows = []
     for i, a in enumerate(actual):
@@ -47,6 +50,8 @@ def comparison_rows(actual, predictions) -> list[dict]:
             "actual_sa_g": _g(a.sa),
             "resurrected": a.resurrected,
             "rungs": len(a.rungs),
+            "numerical_rungs": len(a.numerical_failures),
+            "uncertain": a.uncertain,
         }
         for c, preds in sorted(predictions.items()):
             p = preds[i]
@@ -60,6 +65,7 @@ def comparison_rows(actual, predictions) -> list[dict]:
             row[f"e_v_{c}"] = p.pulse.e_v
             row[f"predicted_sa_g_{c}"] = _g(p.sa)
             row[f"error_{c}"] = (p.sa / a.sa - 1.0) if (p.sa is not None and a.sa) else math.nan
+            row[f"uncertain_{c}"] = p.uncertain
         rows.append(row)
     return rows
 
@@ -82,14 +88,17 @@ def table2(rows, criterion: int, tolerance: float = 0.2, split: float = 0.5) -> 
     -------
     dict
         For ``"all"``, ``"long"`` (Tp > split) and ``"short"``: ``(good, n)``. Records without
-        an actual failure are left out; a missing prediction counts as not good.
+        an actual failure, or whose actual critical SA depends on numerical rungs
+        (``uncertain``), are left out; a missing prediction, or one that depends on numerical
+        rungs, counts as not good.
     """
     out = {"all": [0, 0], "long": [0, 0], "short": [0, 0]}
     for r in rows:
-        if math.isnan(r["actual_sa_g"]):
+        if math.isnan(r["actual_sa_g"]) or r.get("uncertain", False):
             continue
         err = r[f"error_{criterion}"]
-        good = (not math.isnan(err)) and abs(err) <= tolerance + 1e-12
+        good = ((not math.isnan(err)) and abs(err) <= tolerance + 1e-12
+                and not r.get(f"uncertain_{criterion}", False))
         group = "long" if r[f"tp_{criterion}"] > split else "short"
         for g in ("all", group):
             out[g][0] += int(good)
@@ -114,15 +123,18 @@ def ladder_rows(actual) -> list[dict]:
 
 
 def write_csv(rows, path) -> Path:
-    """Write a list of dicts (same keys) as CSV, floats with 6 significant digits."""
+    """Write a list of dicts (same keys) as CSV, floats with 6 significant digits; written to a
+    temporary file beside ``path`` and renamed over it, so a failed write (a full disk) leaves
+    the previous file."""
+    from ..tasks.files import atomic_write
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    if not rows:
-        path.write_text("")
-        return path
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    with atomic_write(path, "w", newline="") as fh:
+        if rows:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            for r in rows:
+                w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v)
+                            for k, v in r.items()})
     return path

@@ -41,7 +41,8 @@ class Rung:
     failed : bool
         Physical failure (the slider escaped over a rim).
     numerical_failure : bool
-        The integration stayed unstable after three step halvings; not counted as failure.
+        The integration stayed unstable after three step halvings: the outcome is unknown,
+        neither a failure nor a survival.
     failure_time : float or None [s]
         From the record's first sample.
     impacts : int
@@ -86,6 +87,9 @@ class CriticalSA:
         Every rung run, in increasing SA.
     cpu_seconds : float [s]
         Processor time spent simulating in this call (cached rungs cost nothing).
+    capped : bool
+        The ladder stops below the ``stop`` asked for: higher rungs would scale the record's
+        peak acceleration beyond :data:`rigid.limits.MAX_MODEL_ACCELERATION`.
     """
 
     sa: float | None
@@ -99,6 +103,7 @@ class CriticalSA:
     search: str
     rungs: tuple
     cpu_seconds: float = 0.0
+    capped: bool = False
 
     @property
     def failed(self) -> bool:
@@ -107,10 +112,12 @@ class CriticalSA:
 
     @property
     def resurrections(self) -> tuple:
-        """Rungs that did not fail although a lower rung did (Vamvatsikos & Cornell 2002)."""
+        """Rungs that survived although a lower rung failed (Vamvatsikos & Cornell 2002);
+        numerical rungs are not survivals."""
         if self.sa is None:
             return ()
-        return tuple(r for r in self.rungs if r.sa > self.sa and not r.failed)
+        return tuple(r for r in self.rungs
+                     if r.sa > self.sa and not r.failed and not r.numerical_failure)
 
     @property
     def resurrected(self) -> bool:
@@ -121,6 +128,13 @@ class CriticalSA:
     def numerical_failures(self) -> tuple:
         """Rungs whose integration stayed unstable (outcome unknown)."""
         return tuple(r for r in self.rungs if r.numerical_failure)
+
+    @property
+    def uncertain(self) -> bool:
+        """The answer depends on numerical rungs: one lies below the first failure (it might
+        have failed first), or no rung failed and some were numerical (they might have)."""
+        return any(r.numerical_failure and (self.sa is None or r.sa < self.sa)
+                   for r in self.rungs)
 
     def table(self) -> dict:
         """The ladder as columns: sa [m/s²], scale, failed, impacts, velocity [m/s], uplift [m]."""
@@ -136,11 +150,24 @@ class CriticalSA:
 
     def summary(self) -> str:
         """One line for the console (SA in g)."""
-        crit = "no failure" if self.sa is None else f"critical SA {self.sa / G:.2f} g"
+        crit = (f"no failure up to {self.stop / G:.2f} g" if self.sa is None
+                else f"critical SA {self.sa / G:.2f} g")
         extra = ""
         if self.resurrected:
             extra = "; resurrections at " + ", ".join(f"{r.sa / G:.2f}" for r in self.resurrections)
             extra += " g"
+        numerical = self.numerical_failures
+        if numerical:
+            extra += (f"; {len(numerical)} numerical rung(s) (integration unstable, outcome "
+                      "unknown) at " + ", ".join(f"{r.sa / G:.2f}" for r in numerical) + " g")
+        if self.uncertain:
+            extra += ("; UNCERTAIN: all rungs numerical" if len(numerical) == len(self.rungs)
+                      else "; UNCERTAIN: the answer depends on numerical rungs")
+        if self.capped:
+            from ..limits import MAX_MODEL_ACCELERATION
+
+            extra += (f"; ladder ends at {self.stop / G:.2f} g (higher rungs would scale the "
+                      f"record beyond the models' {MAX_MODEL_ACCELERATION / G:g} g)")
         return f"{self.name}: {crit} ({len(self.rungs)} rungs, {self.search}){extra}"
 
 
@@ -190,12 +217,21 @@ def check_ladder(bearing, search, searches, step, coarse, start, stop) -> float:
 
 def record_ladder(acc, dt, period, damping, name, start, step, stop) -> tuple[float, int]:
     """SA(T) of the unscaled record [m/s²] and the number of rungs start + j·step ≤ stop (to
-    1e-9 of a step) of a ladder that scales it (Eq. C1); ValueError if the record has no SA at
-    T. Shared by the actual and the predicted ladder."""
+    1e-9 of a step) of a ladder that scales it (Eq. C1), fewer if higher rungs would scale the
+    record's peak beyond :data:`rigid.limits.MAX_MODEL_ACCELERATION` (the models refuse such
+    input); ValueError if the record has no SA at T or even the first rung is beyond that
+    limit. Shared by the actual and the predicted ladder."""
+    from ..limits import MAX_MODEL_ACCELERATION
+
     record_sa = float(pseudo_acceleration(acc, dt, [period], damping)[0])
     if not record_sa > 0:
         raise ValueError(f"{name}: the record has zero SA at T = {period} s; it cannot be scaled")
-    return record_sa, math.floor((stop - start) / step + 1e-9) + 1
+    n_rungs = math.floor((stop - start) / step + 1e-9) + 1
+    top_sa = MAX_MODEL_ACCELERATION / float(np.max(np.abs(acc))) * record_sa
+    if top_sa < start:
+        raise ValueError(f"{name}: the first rung, SA = {start / G:.3g} g, scales the record's "
+                         f"peak beyond {MAX_MODEL_ACCELERATION / G:g} g (docs/limits.md)")
+    return record_sa, min(n_rungs, math.floor((top_sa - start) / step + 1e-9) + 1)
 
 
 def as_record(motion, dt):
@@ -308,6 +344,7 @@ def critical_sa(
         raise ValueError("the record must be a finite 1-D acceleration with at least 2 samples")
 
     record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
+    capped = n_rungs < math.floor((stop - start) / step + 1e-9) + 1
 
     if not (math.isfinite(free) and free >= 0):
         raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
@@ -363,6 +400,7 @@ def critical_sa(
         search=search,
         rungs=rungs,
         cpu_seconds=cpu[0],
+        capped=capped,
     )
 
 

@@ -88,12 +88,31 @@ class PredictedSA:
         """|Ap| of the pulse at the predicted critical rung [m/s²]."""
         return None if self.scale is None else abs(self.pulse.amplitude) * self.scale
 
+    @property
+    def numerical_failures(self) -> tuple:
+        """Rungs whose pulse simulation stayed unstable (region -1: outcome unknown)."""
+        return tuple(r for r in self.rungs if r.region == -1)
+
+    @property
+    def uncertain(self) -> bool:
+        """The prediction depends on numerical rungs: one lies below the predicted rung, or
+        none is in the failure region and some were numerical."""
+        return any(r.region == -1 and (self.sa is None or r.sa < self.sa) for r in self.rungs)
+
     def summary(self) -> str:
         """One line for the console (SA in g)."""
-        crit = "no failure" if self.sa is None else f"predicted SA {self.sa / G:.2f} g"
+        crit = (f"no failure predicted up to {self.stop / G:.2f} g" if self.sa is None
+                else f"predicted SA {self.sa / G:.2f} g")
         p = self.pulse
+        extra = ""
+        numerical = self.numerical_failures
+        if numerical:
+            extra = (f"; {len(numerical)} numerical rung(s) (outcome unknown) at "
+                     + ", ".join(f"{r.sa / G:.2f}" for r in numerical) + " g")
+        if self.uncertain:
+            extra += "; UNCERTAIN: the prediction depends on numerical rungs"
         return (f"{self.name}: {crit} (criterion {self.criterion}, {p.kind} Tp = "
-                f"{p.period:.3f} s, Ap = {abs(p.amplitude) / G:.3f} g unscaled)")
+                f"{p.period:.3f} s, Ap = {abs(p.amplitude) / G:.3f} g unscaled){extra}")
 
 
 class pulse_region:  # a callable class, named and used like a function

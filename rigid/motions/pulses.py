@@ -118,9 +118,19 @@ def ricker_record(
     -------
     t, acceleration : ndarray [s], ndarray [m/s²]
     """
+    from ..limits import MAX_MODEL_DURATION, MAX_MODEL_SAMPLES
+
     if not (np.isfinite(dt) and dt > 0):
         raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
+    _check(amplitude, period, kind)
     lead = 2.0 * period if lead is None else lead
     duration = lead + 2.0 * period + free if duration is None else duration
+    if not (np.isfinite(duration) and 0 < duration <= MAX_MODEL_DURATION):
+        raise ValueError(f"a Ricker record lasts between 0 and {MAX_MODEL_DURATION:g} s "
+                         f"(docs/limits.md), got {duration!r} s (Tp = {period!r} s)")
+    if duration / dt > MAX_MODEL_SAMPLES:
+        raise ValueError(f"a Ricker record of {duration:g} s at dt = {dt:g} s would have "
+                         f"{duration / dt:.3g} samples, more than {MAX_MODEL_SAMPLES:.0e} "
+                         "(docs/limits.md)")
     t = np.arange(round(duration / dt) + 1) * dt
     return t, ricker(t, amplitude, period, kind, t0=lead)

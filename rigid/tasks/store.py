@@ -6,15 +6,23 @@ never replays an old result.
 Each result is its own transaction in WAL mode, so a killed process loses at most the
 simulation in flight and never leaves a half-written row; several processes may write to one
 file (the impact sweeps' workers do; the task runner writes from the coordinating process).
+A damaged file (a disk error, a copy taken mid-write, anything not SQLite) is detected when the
+store is opened, moved aside and rebuilt from the results that can still be read
+(:class:`StoreRecoveredWarning`); SQLite errors later on (a full disk) are raised as
+:class:`StoreError`, naming the file.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import functools
 import hashlib
 import json
+import os
 import sqlite3
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -54,31 +62,149 @@ def task_key(kind: str, models: tuple[str, ...], /, **inputs) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
+class StoreError(OSError):
+    """A result store could not be read or written (the message names the file)."""
+
+
+class StoreRecoveredWarning(UserWarning):
+    """A damaged result store was moved aside and rebuilt from what could be read."""
+
+
+def _named(method):
+    """Raise SQLite errors of a store method as :class:`StoreError` naming the file."""
+
+    @functools.wraps(method)
+    def call(self, *args, **kwargs):
+        try:
+            return method(self, *args, **kwargs)
+        except sqlite3.Error as exc:
+            raise StoreError(f"result store {self.path}: {exc}") from None
+
+    return call
+
+
+@contextlib.contextmanager
+def _exclusive(path: Path):
+    """Hold ``path`` (a lock file) exclusively: one process at a time checks and repairs a
+    store."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield
+        return
+    with open(path, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+_COLUMNS = "key, kind, result, seconds, created"
+
+
+def _salvage(path: Path) -> list[tuple]:
+    """The rows of a damaged store that can still be read (rows whose result is not valid
+    JSON are dropped), batch by batch of rowids, skipping batches that fail."""
+    rows: list[tuple] = []
+    try:
+        db = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+    except sqlite3.Error:
+        return rows
+    try:
+        last, failures = -1, 0
+        while failures < 64:
+            try:
+                batch = db.execute(f"SELECT rowid, {_COLUMNS} FROM results WHERE rowid > ? "
+                                   "ORDER BY rowid LIMIT 256", (last,)).fetchall()
+            except sqlite3.Error:
+                failures += 1
+                last += 256
+                continue
+            if not batch:
+                break
+            failures = 0
+            last = batch[-1][0]
+            for row in batch:
+                try:
+                    json.loads(row[3])
+                except (TypeError, ValueError):
+                    continue
+                rows.append(row[1:])
+    finally:
+        db.close()
+    return rows
+
+
 class ResultStore:
     """A SQLite table of JSON results keyed by :func:`task_key`.
 
     Parameters
     ----------
     path : str or Path
-        Database file; created with its folder if missing.
+        Database file; created with its folder if missing. If it is damaged (SQLite's
+        ``quick_check`` fails, or it is not a database) it is moved to
+        ``<name>.damaged-<time>`` (with its WAL), a new store is built from the rows that can
+        be read, and a :class:`StoreRecoveredWarning` says so.
     """
 
     def __init__(self, path):
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._db = sqlite3.connect(self.path, isolation_level=None, timeout=30)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        self._db.execute("PRAGMA synchronous=NORMAL")
-        self._db.execute(
-            "CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
-            "result TEXT NOT NULL, seconds REAL, created REAL NOT NULL)"
-        )
+        with _exclusive(self.path.with_name(self.path.name + ".lock")):
+            try:
+                self._db = self._open()
+            except sqlite3.DatabaseError as exc:
+                self._db = self._recover(exc)
 
+    def _open(self) -> sqlite3.Connection:
+        db = sqlite3.connect(self.path, isolation_level=None, timeout=30)
+        try:
+            status = db.execute("PRAGMA quick_check").fetchone()[0]
+            if status != "ok":
+                raise sqlite3.DatabaseError(f"quick_check: {str(status)[:80]}")
+            db.execute("PRAGMA journal_mode=WAL")
+            db.execute("PRAGMA synchronous=NORMAL")
+            db.execute(
+                "CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
+                "result TEXT NOT NULL, seconds REAL, created REAL NOT NULL)"
+            )
+            db.execute(f"SELECT {_COLUMNS} FROM results LIMIT 1").fetchall()
+        except sqlite3.DatabaseError:
+            db.close()
+            raise
+        return db
+
+    def _recover(self, error) -> sqlite3.Connection:
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        aside = self.path.with_name(f"{self.path.name}.damaged-{stamp}-{os.getpid()}")
+        for suffix in ("", "-wal", "-shm"):
+            src = Path(str(self.path) + suffix)
+            if src.exists():
+                os.replace(src, Path(str(aside) + suffix))
+        rows = _salvage(aside)
+        try:
+            db = self._open()
+            with db:
+                db.execute("BEGIN")
+                db.executemany(f"INSERT OR REPLACE INTO results ({_COLUMNS}) "
+                               "VALUES (?, ?, ?, ?, ?)", rows)
+        except sqlite3.Error as exc:
+            raise StoreError(f"result store {self.path} was damaged ({error}) and could not be "
+                             f"rebuilt: {exc}") from None
+        warnings.warn(StoreRecoveredWarning(
+            f"result store {self.path} was damaged ({str(error)[:80]}); moved to {aside.name}, "
+            f"{len(rows)} stored results recovered, the others will be recomputed"),
+            stacklevel=3)
+        return db
+
+    @_named
     def get(self, key: str):
         """The stored result (a JSON value) or None."""
         row = self._db.execute("SELECT result FROM results WHERE key = ?", (key,)).fetchone()
         return None if row is None else json.loads(row[0])
 
+    @_named
     def get_many(self, keys) -> dict:
         """The stored results of those ``keys`` that have one, by key."""
         keys, found = list(keys), {}
@@ -91,10 +217,12 @@ class ResultStore:
             found.update((k, json.loads(v)) for k, v in rows)
         return found
 
+    @_named
     def __contains__(self, key: str) -> bool:
         row = self._db.execute("SELECT 1 FROM results WHERE key = ?", (key,)).fetchone()
         return row is not None
 
+    @_named
     def put(self, key: str, kind: str, result, seconds: float | None = None) -> None:
         """Store one result (JSON-serialisable) in its own transaction."""
         self._db.execute(
@@ -103,6 +231,7 @@ class ResultStore:
             (key, kind, json.dumps(result), seconds, time.time()),
         )
 
+    @_named
     def count(self, kind: str | None = None) -> int:
         """Number of stored results, of one kind or all."""
         if kind is None:
@@ -110,6 +239,7 @@ class ResultStore:
         return self._db.execute("SELECT COUNT(*) FROM results WHERE kind = ?",
                                 (kind,)).fetchone()[0]
 
+    @_named
     def check(self) -> bool:
         """SQLite's own integrity check."""
         return self._db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
