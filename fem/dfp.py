@@ -179,15 +179,28 @@ def build_system(
 
     return DFPSystem(
         bearing, depth, m, system, reduction, mass, gravity, influence, top_x, top_z, slider,
-        _rim_roots(m, bearing),
+        rim_root_rows(m, bearing),
     )
 
 
-def _rim_roots(mesh, bearing: DFPBearing) -> dict:
-    """Elements of the first row above each rim root (inside the rim), per rim.
+def rim_root_rows(mesh, bearing: DFPBearing, plates=("bottom", "top")) -> dict:
+    """Elements of the first row above each rim root (inside the rim), per rim (the hinge
+    criterion's section, docs/theory/finite-elements.md, Eq. F36).
 
     The rims are meshed structured (``meshes/dfp.geo``), so the first row is the set of rim
     elements whose centroid lies within one row height of the root line.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshQuad1
+        With the subdomains ``bottom_rim`` and/or ``top_rim``.
+    bearing : rigid.DFPBearing
+    plates : sequence of {"bottom", "top"}
+
+    Returns
+    -------
+    dict
+        Rim name ("bottom -x", "bottom +x", "top -x", "top +x") → element indices.
     """
     z_root = bearing.dish_depth(bearing.rim_radius)
     out = {}
@@ -195,6 +208,8 @@ def _rim_roots(mesh, bearing: DFPBearing) -> dict:
         ("bottom", "bottom_rim", z_root, 1.0),
         ("top", "top_rim", bearing.slider_height - z_root, -1.0),
     ):
+        if plate not in plates:
+            continue
         elems = mesh.subdomains[sub]
         ys = sign * (mesh.p[1, mesh.t[:, elems]] - level)  # height above the root, into the rim
         row = np.min(np.where(ys > 1e-12, ys, np.inf))

@@ -1,0 +1,199 @@
+"""Static push of a restraining rim: the bottom plate of the bearing's own mesh, its back face
+fixed, the upper half of its +x rim's inner face pushed outward by a prescribed horizontal
+displacement (a rigid punch guided horizontally; displacement control passes the limit load),
+with the horizontal reaction and the hinge of the rim root recorded — the rim's force–deflection curve, at small strain or finite deformation
+(docs/theory/finite-elements.md, "Rim push").
+
+Call :func:`rim_pushover`; :func:`bottom_plate` gives the mesh and the node sets (also written
+out for the independent check with CalculiX in ``validation/studies/rim_pushover_ccx.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rigid.bearing import DFPBearing
+
+__all__ = ["BottomPlate", "Pushover", "bottom_plate", "rim_pushover"]
+
+
+@dataclass(frozen=True)
+class BottomPlate:
+    """The bottom plate and rims cut from the bearing's mesh (:func:`bottom_plate`).
+
+    Attributes
+    ----------
+    mesh : skfem.MeshQuad1
+        Coordinates [m]; subdomains ``bottom_plate`` and ``bottom_rim``.
+    support : ndarray of int
+        Nodes of the plate's back face (fixed).
+    face : ndarray of int
+        Nodes of the upper half of the +x rim's inner face (pushed), bottom to top.
+    root_row : ndarray of int
+        Elements of the +x rim's first row above its root (the hinge section).
+    depth : float [m]
+        Out-of-plane depth of the plane-strain model (forces are per unit depth inside).
+    """
+
+    mesh: object
+    support: np.ndarray
+    face: np.ndarray
+    root_row: np.ndarray
+    depth: float
+
+
+@dataclass(frozen=True)
+class Pushover:
+    """Force–deflection curve of a rim push (:func:`rim_pushover`).
+
+    Attributes
+    ----------
+    displacement : ndarray [m]
+        Horizontal displacement δ of the rim's inner face, from 0.
+    force : ndarray [N]
+        Horizontal force on the face (3-D: times the model's depth).
+    yielded_fraction : ndarray [-]
+        Fraction of the root row's quadrature points that have yielded at each step.
+    hinge_displacement, hinge_force : float or None [m, N]
+        At the first step with the whole root row plastic (the hinge, Eq. F36).
+    max_plastic_strain : ndarray [-]
+        Largest equivalent plastic strain in the plate at each step.
+    kinematics : {"small", "finite"}
+    dofs : int
+    plate : BottomPlate
+    final_displacement : ndarray [m]
+        Nodal displacements at the last step (plate dofs).
+    """
+
+    displacement: np.ndarray
+    force: np.ndarray
+    yielded_fraction: np.ndarray
+    hinge_displacement: float | None
+    hinge_force: float | None
+    max_plastic_strain: np.ndarray
+    kinematics: str
+    dofs: int
+    plate: BottomPlate
+    final_displacement: np.ndarray
+
+
+def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
+                 cache_dir=None) -> BottomPlate:
+    """The bottom plate and rims of the bearing's mesh (:func:`fem.geometry.build_mesh`), with
+    the node and element sets of the push.
+
+    Parameters
+    ----------
+    bearing : rigid.DFPBearing
+    mesh_options : dict, optional
+        :func:`fem.geometry.build_mesh` sizes [m]; default the generator's (5 mm at the rims).
+    cache_dir : path-like, optional
+        Mesh cache.
+    """
+    from .dfp import out_of_plane_depth, rim_root_rows
+    from .geometry import build_mesh
+
+    full = build_mesh(bearing, cache_dir=cache_dir, **(mesh_options or {})).mesh
+    elements = np.concatenate([full.subdomains["bottom_plate"], full.subdomains["bottom_rim"]])
+    mesh = full.restrict(np.sort(elements))
+    x, z = mesh.p
+    tol = 1e-9
+    support = np.flatnonzero(np.abs(z + bearing.plate_thickness) < tol)
+    z_root = bearing.dish_depth(bearing.rim_radius)
+    face = np.flatnonzero((np.abs(x - bearing.rim_radius) < tol)
+                          & (z > z_root + 0.5 * bearing.rim_height - tol)
+                          & (z < bearing.rim_top + tol))
+    face = face[np.argsort(z[face])]
+    root = rim_root_rows(mesh, bearing, plates=("bottom",))["bottom +x"]
+    return BottomPlate(mesh, support, face, root, out_of_plane_depth(bearing))
+
+
+def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
+                 displacement: float | None = None, steps: int = 40,
+                 mesh_options: dict | None = None, plasticity: bool = True,
+                 cache_dir=None) -> Pushover:
+    """Push the +x bottom rim outward by a uniform horizontal displacement of the upper half of
+    its inner face.
+
+    The plate's back face is fixed; every node of the upper half of the rim's inner face gets
+    the horizontal displacement δ (their vertical displacement is free) in ``steps`` equal increments of
+    Newton's method to δ = ``displacement``.
+
+    Parameters
+    ----------
+    bearing : rigid.DFPBearing
+        Geometry and steel (``rim_height``, ``rim_thickness``, ``yield_stress``, …).
+    kinematics : {"finite", "small"}
+    displacement : float [m], optional
+        Final δ; default half the rim height.
+    steps : int
+        Increments at most (an increment whose Newton iteration fails is halved).
+    mesh_options : dict, optional
+        :func:`fem.geometry.build_mesh` sizes [m].
+    plasticity : bool
+        False keeps the steel elastic.
+    cache_dir : path-like, optional
+        Mesh cache.
+
+    Returns
+    -------
+    Pushover
+    """
+    from .assembly import PlaneStrainQ1
+    from .finite_element import FiniteStrainQ1
+    from .hencky import FiniteState
+    from .material import Material, MaterialState
+    from .newton import solve_increment
+
+    if kinematics not in ("small", "finite"):
+        raise ValueError(f"kinematics must be 'small' or 'finite', got {kinematics!r}")
+    if int(steps) != steps or steps < 1:
+        raise ValueError(f"steps must be a positive integer, got {steps!r}")
+    delta_end = 0.5 * bearing.rim_height if displacement is None else float(displacement)
+    if not (math.isfinite(delta_end) and delta_end > 0):
+        raise ValueError(f"displacement must be a positive length [m], got {displacement!r}")
+    plate = bottom_plate(bearing, mesh_options=mesh_options, cache_dir=cache_dir)
+    fe = FiniteStrainQ1(plate.mesh) if kinematics == "finite" else PlaneStrainQ1(plate.mesh)
+    steel = Material.from_bearing(bearing)
+    steel = steel if plasticity else steel.elastic()
+    nd = fe.basis.nodal_dofs
+    fixed = np.concatenate([nd[0, plate.support], nd[1, plate.support], nd[0, plate.face]])
+    n_support = 2 * plate.support.size
+    state = (FiniteState if kinematics == "finite" else MaterialState).virgin(fe.point_shape)
+    u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
+    out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0]}
+    hinge = None
+    delta, h = 0.0, delta_end / steps
+    while delta < delta_end * (1 - 1e-12):
+        target = min(delta + h, delta_end)
+        values = np.concatenate([np.zeros(n_support), np.full(plate.face.size, target)])
+        res = solve_increment(fe, steel, state, u, zero, fixed, values, rtol=1e-8, max_iter=15)
+        if not res.converged:  # cut the increment back
+            h *= 0.5
+            if h < 1e-6 * delta_end:
+                raise RuntimeError(f"rim push: Newton did not converge beyond δ = {delta:.4g} m "
+                                   f"even with increments of {h:.2g} m")
+            continue
+        delta, u, state = target, res.displacement, res.state
+        if res.iterations <= 6:
+            h = min(2.0 * h, delta_end / steps)
+        force = float(res.internal_force[nd[0, plate.face]].sum()) * plate.depth
+        p = state.eq_plastic_strain
+        frac = float((p[plate.root_row] > 0).mean())
+        out["d"].append(delta)
+        out["f"].append(force)
+        out["frac"].append(frac)
+        out["p"].append(float(p.max()))
+        if hinge is None and frac >= 1.0:
+            hinge = (delta, force)
+    return Pushover(
+        displacement=np.array(out["d"]), force=np.array(out["f"]),
+        yielded_fraction=np.array(out["frac"]),
+        hinge_displacement=None if hinge is None else hinge[0],
+        hinge_force=None if hinge is None else hinge[1],
+        max_plastic_strain=np.array(out["p"]), kinematics=kinematics, dofs=fe.ndofs,
+        plate=plate, final_displacement=u,
+    )

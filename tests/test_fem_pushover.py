@@ -1,0 +1,65 @@
+"""The rim push (fem.rim_pushover) against CalculiX, an independent FE program with geometric
+nonlinearity, on the same mesh and boundary conditions.
+
+The CalculiX curves are stored numbers: ``docs/results/rim_pushover.csv``, written by
+``validation/studies/rim_pushover_ccx.py`` (which runs ``ccx``; CalculiX is not needed here).
+This test recomputes the project's side and compares.
+"""
+
+import csv
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("skfem")
+pytest.importorskip("gmsh")
+
+from fem.pushover import rim_pushover
+
+STORED = Path(__file__).resolve().parents[1] / "docs" / "results" / "rim_pushover.csv"
+
+
+def stored():
+    with open(STORED) as fh:
+        rows = list(csv.DictReader(fh))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+@pytest.fixture(scope="module")
+def push(heavy, mesh_cache):
+    return rim_pushover(heavy, kinematics="finite", cache_dir=mesh_cache)
+
+
+def test_rim_push_agrees_with_calculix(push):
+    """Finite deformation against CalculiX with NLGEOM, CPE8R (quadratic, reduced integration)
+    and C3D8I (incompatible modes), to a deflection of half the rim height (17.5 mm): within 5 %
+    for δ ≥ 2 mm (past the hinge and the knee; the issue's tolerance; measured ≤ 3.3 % and
+    ≤ 2.1 %). The three element technologies differ most in how they avoid volumetric locking
+    under plastic flow, which is why they do not coincide; CalculiX's fully integrated CPE4,
+    which locks, is 25 % stiffer and is not compared."""
+    ref = stored()
+    d = ref["displacement_mm"] * 1e-3
+    ours = np.interp(d, push.displacement, push.force) / 1e6
+    beyond = d >= 2e-3
+    assert push.displacement[-1] == pytest.approx(0.0175)
+    for element in ("CPE8R", "C3D8I"):
+        ccx = ref[f"force_MN_ccx_{element}"]
+        np.testing.assert_array_less(np.abs(ours[beyond] / ccx[beyond] - 1), 0.05)
+
+
+def test_rim_push_reproduces_its_stored_curve(push):
+    """The project's side of the stored comparison is what the code computes now: within 0.2 %
+    (the adaptive increments and Newton's tolerance of 1e-8 leave less than that)."""
+    ref = stored()
+    d = ref["displacement_mm"] * 1e-3
+    ours = np.interp(d, push.displacement, push.force) / 1e6
+    np.testing.assert_allclose(ours[1:], ref["force_MN_ours_finite"][1:], rtol=2e-3)
+
+
+def test_hinge_before_the_plateau(push):
+    """The root row is fully plastic (the hinge, Eq. F36) before δ = 1 mm, at a force between
+    0.7 and 0.95 of the force at 17.5 mm: the rim goes on carrying load after its first hinge
+    (hardening and the guided push), so the hinge is a conservative limit state."""
+    assert push.hinge_displacement is not None and push.hinge_displacement < 1e-3
+    assert 0.7 < push.hinge_force / push.force[-1] < 0.95
