@@ -1,12 +1,10 @@
-"""Static push of a restraining rim: the bottom plate of the bearing's own mesh, its back face
-fixed, the upper half of its +x rim's inner face pushed outward by a prescribed horizontal
-displacement (a rigid punch guided horizontally; displacement control passes the limit load),
-with the horizontal reaction and the hinge of the rim root recorded — the rim's force–deflection curve, at small strain or finite deformation
-(docs/theory/finite-elements.md, "Rim push").
-
-Call :func:`rim_pushover`; :func:`bottom_plate` gives the mesh and the node sets (also written
-out for the independent check with CalculiX in ``validation/studies/rim_pushover_ccx.py``).
-"""
+"""Static push of a restraining rim, its force–deflection curve at small strain or finite
+deformation: the bottom plate of the bearing's own mesh, its back face fixed, the upper half of
+its +x rim's inner face pushed outward by a prescribed horizontal displacement (a rigid punch
+guided horizontally; displacement control passes the limit load), the horizontal reaction and
+the hinge of the rim root recorded (docs/theory/finite-elements.md, "Rim push"). Call
+:func:`rim_pushover`; :func:`bottom_plate` gives the mesh and its node sets (also used by the
+check with CalculiX, ``validation/studies/rim_pushover_ccx.py``)."""
 
 from __future__ import annotations
 
@@ -119,8 +117,9 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     its inner face.
 
     The plate's back face is fixed; every node of the upper half of the rim's inner face gets
-    the horizontal displacement δ (their vertical displacement is free) in ``steps`` equal increments of
-    Newton's method to δ = ``displacement``.
+    the horizontal displacement δ (their vertical displacement is free), in Newton increments
+    of at most 1/``steps`` of the final ``displacement`` (halved when Newton fails), each
+    accepted state recorded.
 
     Parameters
     ----------
