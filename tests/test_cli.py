@@ -78,7 +78,8 @@ def test_fem_pressure_not_in_the_run(tmp_path):
 
 def test_bad_number_from_argparse(tmp_path):
     result = dfp("demo", "--period", "-1")
-    assert result.returncode == 2 and "must be positive" in result.stderr
+    assert result.returncode == 2 and "must be between 0.05 and 20 s" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1  # no usage block
 
 
 def test_validation_run_on_a_manifest(tmp_path):

@@ -1,12 +1,34 @@
-"""The ``dfp`` console command. Arguments in g and seconds; errors in one line, no traceback."""
+"""The ``dfp`` console command. Arguments in g, seconds and MPa, checked against the
+plausibility limits of docs/limits.md before anything runs.
+
+Every error reaches the user as one line on standard error naming what was wrong, with an
+exit status: 0 done; 1 no trustworthy answer (numerical instability, an answer that depends
+on numerical rungs) or a problem of the machine (a file that cannot be written, a full disk,
+a damaged store that cannot be rebuilt, out of memory, an output folder in use); 2 bad input
+(arguments, record files, manifests); 3 an internal error (a bug: please report it; ``--debug``
+shows the traceback); 130 interrupted (Ctrl-C); 143 terminated (SIGTERM). An interrupted or
+terminated run stops its worker processes and keeps every result stored so far.
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
+import signal
 import sys
+import warnings
 from pathlib import Path
 
+from rigid.limits import (
+    MAX_RECORD_ACCELERATION,
+    MAX_SA_STOP,
+    PRESSURE_RANGE,
+    RECORD_DT_RANGE,
+    RICKER_AMPLITUDE_MAX,
+    RICKER_PERIOD_RANGE,
+)
 from rigid.motions import FEMA_P695_SETS, KINDS, WEIGHTINGS
+from rigid.units import G
 
 #: Records of the quick run: the first components of the first FEMA P695 records of the set.
 QUICK_RECORDS = 4
@@ -15,23 +37,64 @@ QUICK_FEM_RECORDS = 1
 #: FE time step [s] while sliding freely: the quick run's, and the full run's (fem.simulate's
 #: default).
 QUICK_FEM_STEP, FULL_FEM_STEP = 0.01, 0.005
+#: Most local worker processes (more only thrash a machine).
+MAX_WORKERS = 256
+#: Longest error message printed [characters].
+MAX_MESSAGE = 400
+
+EXIT_FAILED, EXIT_USAGE, EXIT_BUG, EXIT_INTERRUPTED, EXIT_TERMINATED = 1, 2, 3, 130, 143
 
 
 class CommandError(Exception):
     """A user-facing error: printed as one line, exit status 2."""
 
 
-def _positive(kind):
+class NoAnswerError(Exception):
+    """The computation ran but gives no trustworthy answer: printed as one line, exit 1."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, handled like Ctrl-C (workers terminated, results so far kept)."""
+
+
+def one_line(text, limit: int = MAX_MESSAGE) -> str:
+    """``text`` on one line (whitespace runs collapsed), at most ``limit`` characters."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def _number(kind, low=None, high=None, unit="", why="", low_open=False):
+    """An argparse type: a finite number of ``kind`` in [low, high] (``low_open``: above
+    low), in the command line's units (``unit``, for the message)."""
+
     def parse(text):
         try:
             value = kind(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-        if not value > 0:
-            raise argparse.ArgumentTypeError(f"must be positive, got {text}")
+            raise argparse.ArgumentTypeError(f"not a number: {text[:40]!r}") from None
+        ok = math.isfinite(value)
+        if ok and low is not None:
+            ok = value > low if low_open else value >= low
+        if ok and high is not None:
+            ok = value <= high
+        if not ok:
+            if low_open and low == 0 and high is None:
+                bounds = "positive and finite"
+            elif low_open and low == 0:
+                bounds = f"positive and at most {high:g}{unit}"
+            elif high is None:
+                bounds = f"at least {low:g}{unit}"
+            else:
+                bounds = f"between {low:g} and {high:g}{unit}"
+            reason = f" ({why}; docs/limits.md)" if why else ""
+            raise argparse.ArgumentTypeError(f"must be {bounds}{reason}, got {text[:40]}")
         return value
 
     return parse
+
+
+def _positive(kind):
+    return _number(kind, 0, None, low_open=True)
 
 
 def _output_folder(path: str) -> Path:
@@ -43,6 +106,15 @@ def _output_folder(path: str) -> Path:
         probe.unlink()
     except OSError as exc:
         raise CommandError(f"cannot write to output folder {folder}: {exc.strerror}") from None
+    return folder
+
+
+def _locked_output_folder(args) -> Path:
+    """The output folder, created, writable and locked for this run (released at exit)."""
+    from rigid.tasks import FolderLock
+
+    folder = _output_folder(args.out)
+    args._lock = FolderLock(folder).acquire()
     return folder
 
 
@@ -62,19 +134,28 @@ def _record(args):
     return read_record(args.record, dt=args.dt, units=args.units)
 
 
+def _no_answer(kind: str, error) -> NoAnswerError:
+    return NoAnswerError(f"numerical instability, not a physical failure: {error} ({kind})")
+
+
 def simulate(args) -> int:
     """Run the rigid model on a Ricker pulse or a record; print impacts and failure; plot."""
-    from rigid import G, ricker_record
+    from rigid import NumericalInstabilityError, ricker_record
     from rigid import simulate as run
     from rigid.plots import plot_response
 
-    out = _output_folder(args.out)
+    out = _locked_output_folder(args)
     bearing = _bearing(args)
     print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
           f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
           f" period {bearing.period:.2f} s)")
     if args.record:
         motion = _record(args)
+        if motion.pga * args.scale > MAX_RECORD_ACCELERATION:
+            raise CommandError(f"--scale {args.scale:g} takes the peak acceleration of "
+                               f"{motion.name} to {motion.pga * args.scale / G:.3g} g, beyond "
+                               f"the {MAX_RECORD_ACCELERATION / G:g} g of any recorded ground "
+                               "motion (docs/limits.md)")
         dt, acceleration = motion.dt, args.scale * motion.acceleration
         title = f"{args.pressure:g} MPa, {motion.name} × {args.scale:g}"
     else:
@@ -83,7 +164,11 @@ def simulate(args) -> int:
         title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
                  f"Tp = {args.period:g} s")
     print(title)
-    result = run(bearing, acceleration, dt)
+    try:
+        result = run(bearing, acceleration, dt)
+    except NumericalInstabilityError as exc:
+        raise _no_answer("the rigid model's integration stayed unstable; the run gives no "
+                         "verdict", exc) from None
     print(result.summary())
     path = plot_response(result, out / "response.png", title=title)
     print(f"plot: {path}")
@@ -92,10 +177,10 @@ def simulate(args) -> int:
 
 def pulses(args) -> int:
     """Extract the best Ricker pulse of a record by each criterion of paper §4.1; plot."""
-    from rigid import G, best_pulse
+    from rigid import best_pulse
     from rigid.motions.plots import plot_record_pulses
 
-    out = _output_folder(args.out)
+    out = _locked_output_folder(args)
     motion = _record(args)
     found = []
     print(f"{motion.name}: dt = {motion.dt:g} s, {motion.acceleration.size} samples")
@@ -104,15 +189,23 @@ def pulses(args) -> int:
         p = best_pulse(motion, criterion=criterion, weighting=args.weighting)
         found.append(p)
         print(f"{criterion:9d}  {p.kind:13s} {p.period:7.3f} {p.amplitude / G:8.3f} "
-              f"{p.time:8.2f} {p.e_a:7.3f} {p.e_v:7.3f}")
+              f"{p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
     path = plot_record_pulses(motion, found, out / "pulses.png", title=motion.name)
     print(f"plot: {path}")
     return 0
 
 
+def _index(value) -> str:
+    """A match index for the pulse table: 3 decimals, or a dash when undefined."""
+    return f"{value:7.3f}" if math.isfinite(value) else f"{'—':>7s}"
+
+
 def critical(args) -> int:
-    """Critical SA(4.5 s) of a record by the 0.01 g ladder, and its pulse prediction."""
-    from rigid import G, critical_sa, predict_critical_sa
+    """Critical SA(4.5 s) of a record by the 0.01 g ladder, and its pulse prediction.
+
+    Exit status 1 (after the two lines) when either answer depends on rungs whose
+    integration stayed unstable (numerical: neither failures nor survivals)."""
+    from rigid import critical_sa, predict_critical_sa
 
     bearing = _bearing(args)
     motion = _record(args)
@@ -122,6 +215,12 @@ def critical(args) -> int:
     predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
                                     stop=args.stop * G, search=args.search)
     print(predicted.summary())
+    uncertain = [what for what, r in (("critical SA", actual), ("prediction", predicted))
+                 if r.uncertain]
+    if uncertain:
+        n = len(actual.numerical_failures) + len(predicted.numerical_failures)
+        raise NoAnswerError(f"the {' and the '.join(uncertain)} depend on {n} numerical "
+                            "rung(s) (integration unstable, outcome unknown): no verdict")
     return 0
 
 
@@ -150,12 +249,11 @@ def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
 
-    from rigid import G
     from validation.fem_search import FESettings
     from validation.report import write_report
     from validation.run import Settings, run_validation
 
-    out = _output_folder(args.out)
+    out = _locked_output_folder(args)
     motions, label = _motions(args)
     criteria = args.criteria or ((3, 4) if args.quick else (1, 2, 3, 4))
     fem_pressures = args.fem_pressure or (args.pressure[:1] if args.quick else args.pressure)
@@ -181,8 +279,19 @@ def validate(args) -> int:
                                           workers=args.workers, progress=progress)
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
-        print(f"  {pressure / 1e6:g} MPa: {failed}/{len(res.actual)} records fail below "
-              f"{settings.stop / G:g} g")
+        numerical = [a for a in res.actual if a.numerical_failures]
+        uncertain = [a.name for a in res.actual if a.uncertain]
+        line = (f"  {pressure / 1e6:g} MPa: {failed}/{len(res.actual)} records fail below "
+                f"{settings.stop / G:g} g")
+        if numerical:
+            line += (f"; {len(numerical)} with numerical rungs (neither failures nor "
+                     f"survivals), {len(uncertain)} of them uncertain")
+        print(line)
+        if uncertain:
+            warnings.warn(f"at {pressure / 1e6:g} MPa the critical SA of "
+                          f"{len(uncertain)} record(s) depends on numerical rungs: "
+                          f"{', '.join(uncertain[:5])}{' …' if len(uncertain) > 5 else ''} "
+                          "(flagged in the report)", stacklevel=1)
     for pressure, found in fem_results.items():
         for r in found:
             sa = "no failure" if r.sa is None else f"{r.sa / G:.2f} g ({r.failure_mode})"
@@ -196,37 +305,65 @@ def validate(args) -> int:
     return 0
 
 
+_PRESSURE = _number(float, PRESSURE_RANGE[0] / 1e6, PRESSURE_RANGE[1] / 1e6, " MPa",
+                    "what sliding bearings are designed for")
+_STOP = _number(float, 0, MAX_SA_STOP / G, " g", "every studied record fails below 1.5 g",
+                low_open=True)
+
+
 def _bearing_args(p):
-    p.add_argument("--pressure", type=_positive(float), default=10.0,
-                   help="slider pressure [MPa] (paper: 60 heavy, 10 light; default 10)")
+    p.add_argument("--pressure", type=_PRESSURE, default=10.0,
+                   help="slider pressure [MPa], 1-200 (paper: 60 heavy, 10 light; default 10)")
 
 
 def _record_args(p, required):
     p.add_argument("--record", required=required,
                    help="record file (PEER AT2, K-NET, JMA CSV or plain text)")
-    p.add_argument("--dt", type=_positive(float), help="time step [s] of a plain text record")
+    p.add_argument("--dt", type=_number(float, *RECORD_DT_RANGE, " s",
+                                        "accelerographs sample at 10-10,000 Hz"),
+                   help="time step [s] of a plain text record, 1e-4 to 0.1")
     p.add_argument("--units", help="units of a plain text record (g, m/s2, gal, ...)")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line (no usage block)."""
+
+    def error(self, message):
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {one_line(message)} (see {self.prog} "
+                  "--help)\n")
+
+
+def _debug_arg(p, default):
+    p.add_argument("--debug", action="store_true", default=default,
+                   help="show the traceback of an error (for bug reports)")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="dfp",
         description="Failure of double friction pendulum bearings under pulse-like motions "
         "(Bao & Becker 2016, reproduced and extended).",
     )
+    _debug_arg(parser, False)
     sub = parser.add_subparsers(dest="command", required=True)
     for name, helptext in (("simulate", "the rigid model on a Ricker pulse or a record"),
                            ("demo", "the same as simulate (the first example of the README)")):
         p = sub.add_parser(name, help=helptext, description=simulate.__doc__)
         _bearing_args(p)
-        p.add_argument("--amplitude", type=_positive(float), default=0.8,
-                       help="pulse amplitude Ap [g] (default 0.8)")
-        p.add_argument("--period", type=_positive(float), default=3.0,
-                       help="pulse period Tp [s] (default 3)")
+        p.add_argument("--amplitude", default=0.8,
+                       type=_number(float, 0, RICKER_AMPLITUDE_MAX / G, " g",
+                                    "the largest recorded ground motions reach about 4 g",
+                                    low_open=True),
+                       help="pulse amplitude Ap [g], up to 10 (default 0.8)")
+        p.add_argument("--period", default=3.0,
+                       type=_number(float, *RICKER_PERIOD_RANGE, " s",
+                                    "from a 20 Hz pulse to beyond the longest velocity pulses"),
+                       help="pulse period Tp [s], 0.05-20 (default 3)")
         p.add_argument("--kind", choices=KINDS, default="symmetric", help="Ricker pulse shape")
         _record_args(p, required=False)
         p.add_argument("--scale", type=_positive(float), default=1.0,
-                       help="scale factor of the record (default 1)")
+                       help="scale factor of the record (default 1; the scaled peak must stay "
+                       "within 10 g)")
         p.add_argument("--out", default="dfp-simulate", help="output folder")
         p.set_defaults(func=simulate)
 
@@ -242,10 +379,10 @@ def build_parser() -> argparse.ArgumentParser:
                        description=critical.__doc__)
     _bearing_args(p)
     _record_args(p, required=True)
-    p.add_argument("--stop", type=_positive(float), default=2.0,
-                   help="highest SA(4.5 s) of the ladder [g] (default 2)")
+    p.add_argument("--stop", type=_STOP, default=2.0,
+                   help="highest SA(4.5 s) of the ladder [g], up to 5 (default 2)")
     p.add_argument("--search", choices=("fast", "full"), default="full", help="ladder search")
-    p.add_argument("--after-failure", type=int, default=10,
+    p.add_argument("--after-failure", type=_number(int, 0, 1000), default=10,
                    help="rungs run above the first failure, to show resurrections (default 10)")
     p.add_argument("--criterion", type=int, choices=(1, 2, 3, 4), default=4,
                    help="pulse selection criterion of the prediction (default 4)")
@@ -264,12 +401,12 @@ def build_parser() -> argparse.ArgumentParser:
                    f"first pressure on the coarse mesh with {QUICK_FEM_STEP:g} s steps "
                    "(about 10 minutes on 2 cores)")
     p.add_argument("--records", type=_positive(int), help="use only the first N components")
-    p.add_argument("--pressure", type=_positive(float), nargs="+", default=[60.0, 10.0],
-                   help="slider pressures [MPa] (default 60 10)")
+    p.add_argument("--pressure", type=_PRESSURE, nargs="+", default=[60.0, 10.0],
+                   help="slider pressures [MPa], 1-200 (default 60 10)")
     p.add_argument("--criteria", type=int, nargs="+", choices=[1, 2, 3, 4],
                    help="pulse selection criteria (default all; --quick: 3 and 4, the paper's)")
-    p.add_argument("--stop", type=_positive(float), default=1.5,
-                   help="highest SA(4.5 s) of the ladder [g] (default 1.5)")
+    p.add_argument("--stop", type=_STOP, default=1.5,
+                   help="highest SA(4.5 s) of the ladder [g], up to 5 (default 1.5)")
     p.add_argument("--search", choices=("fast", "full"), default="fast",
                    help="ladder search (default fast: 0.1 g steps, then 0.01 g)")
     p.add_argument("--fem", action=argparse.BooleanOptionalAction, default=True,
@@ -278,34 +415,104 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fem-mesh", choices=("coarse", "default"), default="coarse",
                    help="FE mesh: coarse (905 dofs, default) or default (4301 dofs, ~10x "
                    "slower)")
-    p.add_argument("--fem-step", type=_positive(float),
+    p.add_argument("--fem-step", type=_number(float, 0, 0.1, " s", low_open=True),
                    help=f"FE time step [s] while sliding (default {FULL_FEM_STEP:g}; --quick: "
                    f"{QUICK_FEM_STEP:g})")
     p.add_argument("--fem-records", type=_positive(int),
                    help=f"FE runs for the N shortest records only (default all; --quick: "
                    f"{QUICK_FEM_RECORDS})")
-    p.add_argument("--fem-pressure", type=_positive(float), nargs="+",
+    p.add_argument("--fem-pressure", type=_PRESSURE, nargs="+",
                    help="pressures [MPa] with FE runs (default all; --quick: the first)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
-    p.add_argument("--workers", type=_positive(int), help="local worker processes")
+    p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),
+                   help=f"local worker processes (1-{MAX_WORKERS})")
     p.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bars")
     p.set_defaults(func=validate)
+    for p in sub.choices.values():  # --debug after the command too
+        _debug_arg(p, argparse.SUPPRESS)
     return parser
 
 
+def _describe(exc: BaseException) -> tuple[str, int]:
+    """The one-line message and the exit status of an exception."""
+    import sqlite3
+
+    from rigid import NumericalInstabilityError
+    from rigid.tasks import FolderBusyError, StoreError
+
+    if isinstance(exc, (CommandError, ValueError)):  # RecordFormatError is a ValueError
+        return f"error: {exc}", EXIT_USAGE
+    if isinstance(exc, NoAnswerError):
+        return f"no answer: {exc}", EXIT_FAILED
+    if isinstance(exc, NumericalInstabilityError):
+        return f"no answer: numerical instability, not a physical failure: {exc}", EXIT_FAILED
+    if isinstance(exc, (FolderBusyError, StoreError)):
+        return f"error: {exc}", EXIT_FAILED
+    if isinstance(exc, OSError):
+        if exc.filename is not None and exc.strerror:
+            return f"error: {exc.filename}: {exc.strerror}", EXIT_FAILED
+        return f"error: {exc}", EXIT_FAILED
+    if isinstance(exc, sqlite3.Error):
+        return f"error: result store: {exc}", EXIT_FAILED
+    if isinstance(exc, MemoryError):
+        return ("error: out of memory (the inputs are within docs/limits.md; please report "
+                "it)", EXIT_FAILED)
+    if isinstance(exc, ModuleNotFoundError):
+        return (f"error: {exc}; install the optional dependencies: pip install "
+                "'dfp-failure[all]'", EXIT_FAILED)
+    return (f"internal error (please report, with the output of --debug): "
+            f"{type(exc).__name__}: {exc}", EXIT_BUG)
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
 def main(argv=None) -> int:
+    """Run the ``dfp`` command with ``argv`` (default ``sys.argv[1:]``); return the exit
+    status (see the module docstring)."""
     parser = build_parser()
-    args = parser.parse_args(argv)
     try:
-        return args.func(args)
-    except (CommandError, ValueError, OSError) as exc:
-        print(f"dfp {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help (0) or a usage error (2), already printed
+        return exc.code if isinstance(exc.code, int) else EXIT_USAGE
+    prefix = f"dfp {args.command}"
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        print(f"{prefix}: warning: {one_line(message)}", file=sys.stderr)
+
+    previous = None
+    try:
+        previous = signal.signal(signal.SIGTERM, _terminate)
+    except ValueError:  # not the main thread: leave SIGTERM alone
+        pass
+    try:
+        with warnings.catch_warnings():
+            warnings.showwarning = show
+            return args.func(args)
+    except Terminated:
+        print(f"{prefix}: terminated (SIGTERM); workers stopped, results so far kept",
+              file=sys.stderr)
+        return EXIT_TERMINATED
     except KeyboardInterrupt:
-        print(f"dfp {args.command}: interrupted", file=sys.stderr)
-        return 130
+        print(f"{prefix}: interrupted; workers stopped, results so far kept", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        message, status = _describe(exc)
+        if args.debug:
+            import traceback
+
+            traceback.print_exc()
+        print(f"{prefix}: {one_line(message)}", file=sys.stderr)
+        return status
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+        lock = getattr(args, "_lock", None)
+        if lock is not None:
+            lock.release()
 
 
 if __name__ == "__main__":

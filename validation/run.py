@@ -49,8 +49,10 @@ class Settings:
     fem_records: int | None = None
 
     def describe(self) -> dict:
+        """The settings for the report: ``{"name [unit]": value}`` (no unit for text)."""
         out = {"pressures [MPa]": [p / 1e6 for p in self.pressures],
-               "criteria": list(self.criteria), "SA step [g]": self.step / G,
+               "pulse criteria, paper §4.1 [-]": list(self.criteria),
+               "SA step [g]": self.step / G,
                "SA stop [g]": self.stop / G, "ladder search": self.search}
         if self.fem is None:
             return out | {"FE critical SA": "not run"}

