@@ -12,7 +12,7 @@ body { font-family: system-ui, sans-serif; max-width: 70em; margin: 2em auto; co
 h1 { font-size: 1.6em; } h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; margin-top: 2em; }
 .table-scroll { overflow-x: auto; max-width: 100%; margin: 1em 0; }
 table { border-collapse: collapse; font-size: 0.9em; margin: 0; }
-caption { text-align: left; font-size: 0.9em; color: #555; padding: 0.2em 0; }
+.table-caption { font-size: 0.9em; color: #555; margin-top: 1em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f3f3f3; } td.text { text-align: left; }
 figure { margin: 1em 0; } figcaption { font-size: 0.9em; color: #555; }
@@ -58,9 +58,10 @@ class Report:
                 cls = ' class="text"' if isinstance(value, str) else ""
                 cells.append(f"<td{cls}>{html.escape(text)}</td>")
             body.append("<tr>" + "".join(cells) + "</tr>")
-        cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
-        # wide tables scroll inside their box instead of being cut at the page's width
-        self.parts.append(f'<div class="table-scroll"><table>{cap}<tr>{head}</tr>'
+        cap = (f'<div class="table-caption">{html.escape(caption)}</div>' if caption else "")
+        # wide tables scroll inside their box instead of being cut at the page's width; the
+        # caption stays outside the box, so it wraps instead of scrolling away
+        self.parts.append(f'{cap}<div class="table-scroll"><table><tr>{head}</tr>'
                           f"{''.join(body)}</table></div>")
 
     def figure(self, png, caption: str = "") -> None:

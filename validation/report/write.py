@@ -90,11 +90,20 @@ def bearing_rows(bearing) -> list[dict]:
     names = [f.name for f in dataclasses.fields(bearing)] + list(_DERIVED)
     for name in names:
         value = getattr(bearing, name)
-        unit, factor = BEARING_UNITS.get(name, ("SI", 1))
+        unit, factor = BEARING_UNITS.get(name, (_documented_unit(type(bearing), name), 1))
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             value = value * factor
         rows.append({"parameter": name.replace("_", " "), "value": plain(value), "unit": unit})
     return rows
+
+
+def _documented_unit(cls, name: str) -> str:
+    """The unit of a parameter as its class's docstring states it (``name : float [unit]``),
+    for parameters :data:`BEARING_UNITS` does not list yet."""
+    import re
+
+    m = re.search(rf"^\s*{re.escape(name)}\s*:[^\n\[]*\[([^\]]+)\]", cls.__doc__ or "", re.M)
+    return m.group(1) if m else "SI"
 
 
 def _sentences(text: str) -> str:
@@ -298,8 +307,8 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
         columns = {"record": "record", "actual_sa_g": "actual SA [g]",
                    "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
                    "uncertain": "uncertain"}
-        shown = [{**r, **{f"error_pct_{c}": 100 * r[f"error_{c}"] for c in res.predictions}}
-                 for r in rows]
+        shown = [{**r, **{f"error_pct_{c}": round(100 * r[f"error_{c}"], 1)
+                           for c in res.predictions}} for r in rows]
         for c in sorted(res.predictions):
             columns |= {f"kind_{c}": f"kind ({c})", f"tp_{c}": f"Tp [s] ({c})",
                         f"predicted_sa_g_{c}": f"predicted [g] ({c})",

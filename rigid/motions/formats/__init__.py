@@ -38,7 +38,8 @@ def detect_format(path) -> str:
     head = "\n".join(read_lines(path)[:20]).upper()
     if head.startswith("PEER") or "UNITS OF" in head or ("NPTS" in head and "DT" in head):
         return "peer"
-    if "SCALE FACTOR" in head and "SAMPLING FREQ" in head:
+    knet_keys = ("ORIGIN TIME", "STATION CODE", "SAMPLING FREQ", "SCALE FACTOR", "MEMO.")
+    if sum(key in head for key in knet_keys) >= 2:  # a K-NET header, perhaps incomplete
         return "knet"
     if "SITE CODE" in head or "SAMPLING RATE" in head:
         return "jma"

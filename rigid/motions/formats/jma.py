@@ -104,7 +104,7 @@ def read_jma_csv(path, component: str = "NS", name: str | None = None) -> Ground
             )
         for x, token in zip(row, tokens, strict=False):
             if abs(x) > bound:
-                raise RecordFormatError(path, i + 1, implausible(token, abs(x) / bound))
+                raise RecordFormatError(path, i + 1, implausible(token, x, bound))
         rows.append(row)
         if len(rows) > MAX_RECORD_SAMPLES:
             raise RecordFormatError(path, i + 1, too_many_samples())

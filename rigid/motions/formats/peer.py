@@ -75,7 +75,7 @@ def read_peer_at2(path, name: str | None = None) -> GroundMotion:
             path, 4, "expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT' (missing DT or NPTS)"
         )
     if len(m.group(1)) > 9:
-        raise RecordFormatError(path, 4, f"NPTS={excerpt(m.group(1), 12)}: {too_many_samples()}")
+        raise RecordFormatError(path, 4, f"NPTS={m.group(1)[:12]}: {too_many_samples()}")
     npts, dt = int(m.group(1)), float(m.group(2).replace("D", "E").replace("d", "e"))
     if not dt > 0:
         raise RecordFormatError(path, 4, f"expected a positive DT, found {excerpt(m.group(2))}")

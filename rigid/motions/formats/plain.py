@@ -81,7 +81,7 @@ def read_plain(
         if len(row) not in (1, 2):
             raise RecordFormatError(path, i + 1, f"expected 1 or 2 columns, found {len(row)}")
         if abs(row[-1]) > bound:
-            raise RecordFormatError(path, i + 1, implausible(tokens[-1], abs(row[-1]) / bound))
+            raise RecordFormatError(path, i + 1, implausible(tokens[-1], row[-1], bound))
         rows.append(row)
         line_nos.append(i + 1)
         if len(rows) > MAX_RECORD_SAMPLES:
@@ -93,12 +93,13 @@ def read_plain(
         steps = np.diff(data[:, 0])
         if steps.size == 0 or not np.all(steps > 0):
             raise RecordFormatError(path, line_nos[0], "expected increasing times in column 1")
-        step = float(np.mean(steps))
-        bad = np.nonzero(np.abs(steps - step) > 1e-6 * step + 1e-12)[0]
+        first = float(steps[0])  # the first step is the reference: the first odd one is blamed
+        bad = np.nonzero(np.abs(steps - first) > 1e-6 * first + 1e-12)[0]
         if bad.size:
             raise RecordFormatError(
-                path, line_nos[bad[0] + 1], f"expected a uniform time step {step:g} s"
+                path, line_nos[bad[0] + 1], f"expected a uniform time step {first:g} s"
             )
+        step = float(np.mean(steps))
         if dt is not None and abs(dt - step) > 1e-6 * step:
             raise RecordFormatError(path, line_nos[1], f"time column gives dt={step:g}, not {dt:g}")
         dt = check_dt(path, line_nos[1], step, "the time column")

@@ -184,7 +184,7 @@ def parse_block(path, lines: list[str], first: int, expected: int | None, per_li
                 raise RecordFormatError(path, i + 1,
                                         f"expected a finite number, found {excerpt(tok)}")
             if bound is not None and abs(x) > bound:
-                raise RecordFormatError(path, i + 1, implausible(tok, x / bound))
+                raise RecordFormatError(path, i + 1, implausible(tok, x, bound))
             values.append(x)
         counts.append((i, len(tokens)))
         if expected is not None and len(values) > expected:
@@ -217,9 +217,10 @@ def parse_block(path, lines: list[str], first: int, expected: int | None, per_li
     return np.array(values)
 
 
-def implausible(token, ratio: float) -> str:
-    """Message for a value ``ratio`` times the largest plausible record acceleration."""
-    g = ratio * MAX_RECORD_ACCELERATION / G
+def implausible(token, value: float, bound: float) -> str:
+    """Message for a ``value`` beyond ``bound`` (the largest plausible record acceleration in
+    the file's units, :func:`acceleration_bound`)."""
+    g = value * (MAX_RECORD_ACCELERATION / G / bound)  # in this order: no overflow
     return (f"value {excerpt(token, 30)} is {g:.3g} g, beyond the "
             f"{MAX_RECORD_ACCELERATION / G:g} g of any recorded ground motion (wrong units "
             "or a damaged file? docs/limits.md)")
