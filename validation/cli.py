@@ -146,10 +146,7 @@ def simulate(args) -> int:
 
     out = _locked_output_folder(args)
     bearing = _bearing(args)
-    print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
-          f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
-          f" period {bearing.period:.2f} s)")
-    if args.record:
+    if args.record:  # read and checked before anything is printed
         motion = _record(args)
         if motion.pga * args.scale > MAX_RECORD_ACCELERATION:
             raise CommandError(f"--scale {args.scale:g} takes the peak acceleration of "
@@ -163,6 +160,9 @@ def simulate(args) -> int:
         _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
         title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
                  f"Tp = {args.period:g} s")
+    print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
+          f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
+          f" period {bearing.period:.2f} s)")
     print(title)
     try:
         result = run(bearing, acceleration, dt)
