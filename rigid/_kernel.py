@@ -65,7 +65,7 @@ N_SUMMARY = 16
 # status and failure codes --------------------------------------------------------------------
 STATUS_OK, STATUS_FAILED, STATUS_NUMERICAL = 0, 1, 2
 FAIL_BOTTOM_RIM, FAIL_TOP_RIM, FAIL_CENTROID, FAIL_OVERTURN = 1, 2, 3, 4
-NUM_NAN, NUM_PENETRATION, NUM_ENERGY = 10, 11, 12
+NUM_NAN, NUM_PENETRATION, NUM_ENERGY, NUM_JUMP = 10, 11, 12, 13
 #: energy residual, relative to the input energy, beyond which the run counts as unstable
 #: (Eq. R46)
 ENERGY_TOLERANCE = 0.05
@@ -321,6 +321,17 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
         rimf[r] += _apply(8 + r, delta, nx, nz, kx, kz, is_top, meff, p[P_MU_RIM], p, q, v, h,
                           Z, gen, acc, stiff)
     return dmax
+
+
+@njit(cache=True)
+def _step_jump(p, v, hs):
+    """Largest distance [m] any point of the slider or the top plate moved in the last step
+    of length hs [s] (translations, and the rotation times the slider's half-diagonal)."""
+    arm = math.hypot(p[P_HALF_B], 0.5 * p[P_HS])
+    jump = abs(v[2]) * hs * arm
+    for i in (0, 1, 3, 4):
+        jump = max(jump, abs(v[i]) * hs)
+    return jump
 
 
 @njit(cache=True)
@@ -654,6 +665,8 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             status, fail_code, fail_time = STATUS_NUMERICAL, NUM_NAN, t
         elif dmax > p[P_DMAX]:
             status, fail_code, fail_time = STATUS_NUMERICAL, NUM_PENETRATION, t
+        elif _step_jump(p, v, hs) > 0.25 * p[P_DMAX]:
+            status, fail_code, fail_time = STATUS_NUMERICAL, NUM_JUMP, t
         elif fail_code == 0:
             code = _failure(p, q, vert)
             if code != 0:

@@ -32,6 +32,7 @@ _FAILURE_DETAIL = {
     K.NUM_NAN: "the state became non-finite",
     K.NUM_PENETRATION: "a contact penetration exceeded the rim thickness",
     K.NUM_ENERGY: "the energy balance failed to close within 5 % of the input energy",
+    K.NUM_JUMP: "a body moved further in one step than a quarter of the rim thickness",
 }
 
 

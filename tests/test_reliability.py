@@ -102,6 +102,24 @@ def test_a_record_scaled_by_1e20_never_runs(light):
         rigid.simulate(light, a, 0.01)
 
 
+def test_a_blow_up_in_the_first_step_is_numerical_not_an_escape(light, monkeypatch):
+    """Behind the 100 g guard the kernel itself must not call a blow-up physical: with the
+    guard lifted, a pulse scaled by 1e20 throws the slider past the rim in one internal step,
+    where contact never engages (no penetration, no NaN). The step-jump rule (a body moving
+    more than a quarter of the rim thickness in one step; docs/theory/rigid-body.md,
+    "Failure") must report it as numerical. Before that rule the verdict was "uplift at
+    t = 0"."""
+    from rigid import model
+
+    monkeypatch.setattr(model, "check_model_input",
+                        lambda bearing, a, dt, duration: (np.asarray(a, float),
+                                                          (len(a) - 1) * dt))
+    with pytest.warns(RuntimeWarning, match="moved further in one step"):
+        res = rigid.simulate(light, _pulse() * 1e20, 0.01, on_instability="report")
+    assert res.numerical_failure and not res.failed
+    assert res.failure_mode is None
+
+
 def test_ladder_stops_below_the_models_limit(light):
     """A Hann-windowed 10 Hz burst has almost no SA(4.5 s) (5e-4 of its peak): reaching
     0.5 g of SA would scale it to about 1000 g. The ladder ends at the last rung within 100 g
