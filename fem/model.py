@@ -1,27 +1,12 @@
-r"""``fem.simulate``: the plane-strain FE model of a DFP bearing under horizontal ground motion.
-
-Same input conventions as :func:`rigid.simulate` (a ground acceleration sampled every ``dt``,
-linear in between, at rest beyond the record). Steps: mesh and system
-(:func:`fem.dfp.build_system`), gravity (static), then HHT-α (:mod:`fem.dynamics`) in the frame
-of the ground, with the failure checks below after every accepted step.
-
-* **plastic hinge** — every quadrature point of a rim's first element row above its root,
-  across the whole rim thickness, has yielded: the root section has reached its plastic
-  capacity and the rim turns into a mechanism. Hinge times are recorded for every rim.
-* **escape** — a bottom (top) vertex of the slider lies beyond the *deformed* inner top corner
-  of a bottom (top) rim, horizontally outside it and vertically past it; or its centroid passes
-  a rim's inner face; or it overturns (|Θ| > 45°): the rigid model's criteria on deformed rims.
-
-``failure_criterion`` picks which of them ends the run and how ``failure_mode`` is labelled
-(yielding: the rim let go; uplift: the slider climbed over a rim that held). The definitions
-and why they were chosen are in ``docs/theory/finite-elements.md`` ("Failure"); what the
-model found with them (yielding against uplift, the rims' strength, vertex contact) is in
-``docs/fe-companion.md``.
-"""
+r"""``fem.simulate``: the plane-strain FE model of a DFP bearing under horizontal ground motion —
+mesh and system (:func:`fem.dfp.build_system`), gravity, then HHT-α (:mod:`fem.dynamics`) in the
+frame of the ground, with the three limit states (the first rim hinge, rupture of a rim, loss of
+containment; :mod:`fem.limit_states`) watched after every accepted step and one of them chosen
+as failure (docs/theory/finite-elements.md, "Limit states"; what the model found:
+docs/fe-companion.md). Same input conventions as :func:`rigid.simulate`."""
 
 from __future__ import annotations
 
-import math
 import time as _time
 from dataclasses import dataclass, field
 
@@ -29,7 +14,13 @@ import numpy as np
 
 from rigid.bearing import DFPBearing
 
-RIMS = ("bottom -x", "bottom +x", "top -x", "top +x")
+from .limit_states import LIMIT_STATES, RIMS, LimitStates
+
+__all__ = ["LIMIT_STATES", "PLASTIC_STRAIN_LIMIT", "RIMS", "FEMResult", "simulate"]
+
+#: Local equivalent plastic strain beyond which a run has left the model's range (a true strain
+#: of 5 stretches a fibre 150-fold; the elements are slivers): it ends as numerical.
+PLASTIC_STRAIN_LIMIT = 5.0
 
 
 @dataclass(frozen=True)
@@ -57,19 +48,32 @@ class FEMResult:
         Largest equivalent plastic strain in each rim's root row.
     rim_root_yielded_fraction : ndarray, shape (nt, 4) [-]
         Fraction of the root row's quadrature points that have yielded (1 = hinge).
+    rim_regularised_plastic_strain : ndarray, shape (nt, 4) [-]
+        Largest equivalent plastic strain of each rim averaged over a gauge of the rim's
+        thickness (the rupture measure, docs/theory/finite-elements.md, Eq. F52).
     max_plastic_strain : float [-]
         Largest equivalent plastic strain anywhere, at the end.
     hinge_times : dict
         Rim name → time [s] its root section became fully plastic (only rims that did).
+    limit_states : dict
+        ``"hinge"``, ``"rupture"``, ``"containment"`` → the time [s] the run first reached it,
+        or None (not reached before the run ended; Eqs. F36, F51–F53).
+    failure_criterion : {"hinge", "rupture", "containment"}
+        The limit state that defines ``failed`` (containment is failure under any criterion).
+    kinematics : {"small", "finite"}
     energy : dict of ndarray [J]
         ``input``, ``kinetic``, ``strain``, ``plastic``, ``contact``, ``friction``,
         ``residual`` (3-D, i.e. times the depth), at ``time``.
     failed : bool
     failure_mode : {"yielding", "uplift", None}
+        "yielding": the rim let go (a hinge or rupture first, or the slider passed a rim bent
+        out of its way); "uplift": the slider climbed over a rim that held, or overturned.
     failure_time : float or None [s]
     failure_detail : str or None
     numerical_failure : bool
-        The time integration could not continue (message in ``failure_detail``).
+        The time integration could not continue, or the response left the model's range (a
+        failure at the first step without motion, plastic strains beyond
+        :data:`PLASTIC_STRAIN_LIMIT`); the message is in ``failure_detail``.
     steps, newton_iterations, rejected_steps, dofs : int
     wall_time : float [s]
     depth : float [m]
@@ -95,8 +99,12 @@ class FEMResult:
     rim_force: np.ndarray
     rim_root_plastic_strain: np.ndarray
     rim_root_yielded_fraction: np.ndarray
+    rim_regularised_plastic_strain: np.ndarray
     max_plastic_strain: float
     hinge_times: dict
+    limit_states: dict
+    failure_criterion: str
+    kinematics: str
     energy: dict
     failed: bool
     failure_mode: str | None
@@ -124,10 +132,12 @@ class FEMResult:
     def summary(self) -> str:
         """One paragraph for the console."""
         head = (
-            f"FE: {self.steps} steps, {self.newton_iterations} Newton iterations, "
-            f"{self.dofs} dofs, {self.wall_time:.1f} s; max displacement "
+            f"FE ({self.kinematics} kinematics): {self.steps} steps, {self.newton_iterations} "
+            f"Newton iterations, {self.dofs} dofs, {self.wall_time:.1f} s; max displacement "
             f"{self.max_displacement:.3f} m; max plastic strain {self.max_plastic_strain:.4f}; "
-            f"max rim force {self.rim_force.max() / 1e6:.2f} MN"
+            f"max rim force {self.rim_force.max() / 1e6:.2f} MN; limit states: "
+            + ", ".join(f"{k} " + ("not reached" if t is None else f"at {t:.3f} s")
+                        for k, t in self.limit_states.items())
         )
         if self.failed:
             return head + (
@@ -137,20 +147,6 @@ class FEMResult:
         if self.numerical_failure:
             return head + f"\nNUMERICAL FAILURE: {self.failure_detail}"
         return head + "\nno failure"
-
-
-def _corner_nodes(mesh, bearing: DFPBearing) -> dict:
-    """Mesh vertices at the rims' inner top corners, per rim."""
-    r_in, z_t = bearing.rim_radius, bearing.rim_top
-    h = bearing.slider_height
-    targets = {
-        "bottom -x": (-r_in, z_t),
-        "bottom +x": (r_in, z_t),
-        "top -x": (-r_in, h - z_t),
-        "top +x": (r_in, h - z_t),
-    }
-    return {k: int(np.argmin(np.hypot(mesh.p[0] - x, mesh.p[1] - z))) for k, (x, z) in
-            targets.items()}
 
 
 def simulate(
@@ -169,7 +165,7 @@ def simulate(
     failure_criterion: str = "hinge",
     vertex_contact: bool = False,
     plasticity: bool = True,
-    kinematics: str = "small",
+    kinematics: str = "finite",
     energy_tolerance: float = 1e-3,
     cache_dir=None,
 ) -> FEMResult:
@@ -199,19 +195,20 @@ def simulate(
         Stop at the first failure (default).
     snapshot_every : int
         Keep the full field every n accepted steps for movies (0: none).
-    failure_criterion : {"hinge", "escape"}
-        ``"hinge"``: failure by yielding as soon as a rim root is fully plastic (module
-        docstring). ``"escape"``: only the slider's escape is failure, labelled "yielding" if it
-        passed a hinged rim that was pushed out of its way, "uplift" if it climbed over (see
-        the module docstring and docs/theory/finite-elements.md, Eqs. F36–F38; hinge times are
-        still recorded).
+    failure_criterion : {"hinge", "rupture", "containment"}
+        The limit state that ends the run (with ``stop_at_failure``) and defines ``failed``:
+        the first rim hinge, the rupture of a rim, or the loss of containment (the slider got
+        past a rim or overturned), which is failure under any criterion. All three are
+        recorded in ``limit_states`` as far as the run goes (docs/theory/finite-elements.md,
+        "Limit states").
     vertex_contact : bool
         Make the slider's vertices contact points against the rims
         (docs/theory/finite-elements.md, Eq. F20; why it is off by default:
         docs/fe-companion.md, "Slider vertices").
-    kinematics : {"small", "finite"}
-        Small strain, or finite deformation of the plates and rims (large rotations and
-        strains; :func:`fem.dfp.build_system`).
+    kinematics : {"finite", "small"}
+        Finite deformation of the plates and rims (large rotations and strains; default), or
+        small strain (:func:`fem.dfp.build_system`; docs/theory/finite-elements.md, "Finite
+        deformation").
     plasticity : bool
         False keeps the steel linear elastic: rims that cannot yield, as in the rigid model
         (what that gives: docs/fe-companion.md, "Rims that cannot yield: uplift").
@@ -236,10 +233,9 @@ def simulate(
 
     a, duration = check_model_input(bearing, acceleration, dt, duration)
     record_end = (a.size - 1) * dt
-    if failure_criterion not in ("hinge", "escape"):
-        raise ValueError(
-            f"failure_criterion must be 'hinge' or 'escape', got {failure_criterion!r}"
-        )
+    if failure_criterion not in LIMIT_STATES:
+        raise ValueError(f"failure_criterion must be one of {', '.join(LIMIT_STATES)}, got "
+                         f"{failure_criterion!r}")
     if not (0 < impact_step <= max_step):
         raise ValueError("need 0 < impact_step ≤ max_step")
     t_grid = np.arange(a.size) * dt
@@ -271,19 +267,18 @@ def simulate(
         rim_of[mask & ~side] = base
         rim_of[mask & side] = base + 1
     rim_mask = rim_of >= 0
-    corners = _corner_nodes(mesh, bearing)
-    nd = sysm.fe.basis.nodal_dofs
     top_rows = red.P.getcol(model.top_x).nonzero()[0]
     top_z_rows = red.P.getcol(model.top_z).nonzero()[0]
-    roots = [model.rim_roots[k] for k in RIMS]
-    vertices = sysm.shape.vertices
+    watch = LimitStates(bearing, model)
 
     hist: dict[str, list] = {k: [] for k in (
-        "t", "x", "z", "xs", "zs", "th", "shear", "dish", "rim", "root_p", "root_frac")}
+        "t", "x", "z", "xs", "zs", "th", "shear", "dish", "rim", "root_p", "root_frac",
+        "regular")}
     snaps = []
-    failure: dict = {}
-    hinges: dict = {}
+    verdict: dict = {}
     z_top0 = [None]
+
+    first_step = [max_step]
 
     def observer(t, d, ev, state) -> bool:
         pose = sysm.slider_pose(d)
@@ -306,23 +301,26 @@ def simulate(
         hist["rim"].append(
             [float(con.normal[rim_of == k].sum()) * depth for k in range(4)]
         )
-        root_p = [float(p[e].max()) if e.size else 0.0 for e in roots]
-        frac = [float((p[e] > 0).mean()) if e.size else 0.0 for e in roots]
+        root_p, frac, regular = watch.update(t, d, pose, p)
         hist["root_p"].append(root_p)
         hist["root_frac"].append(frac)
+        hist["regular"].append(regular)
         if snapshot_every and (len(hist["t"]) - 1) % snapshot_every == 0:
             snaps.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
-        for k, f in enumerate(frac):  # the root row fully plastic: a hinge (Eq. F36)
-            if f >= 1.0 and RIMS[k] not in hinges:
-                hinges[RIMS[k]] = t
-        if failure:
-            return False
-        mode, detail = _check_failure(
-            bearing, sysm, d, pose, vertices, corners, nd, frac, failure_criterion == "hinge"
-        )
-        if mode is not None:
-            failure.update(mode=mode, detail=detail, time=t)
-            return stop_at_failure
+        if float(p.max()) > PLASTIC_STRAIN_LIMIT:
+            verdict.setdefault("numerical", f"the plastic strain reached {p.max():.3g} at "
+                               f"t = {t:.4f} s, beyond the model's range")
+            return True
+        if not verdict:
+            failed, when, mode, detail = watch.verdict(failure_criterion)
+            if failed:
+                if when <= first_step[0] and abs(hist["x"][-1]) < 1e-3:
+                    verdict["numerical"] = (f"failure at the first step ({detail}) without "
+                                            "motion: a numerical, not a physical, failure")
+                    return True
+                verdict.update(time=when, mode=mode, detail=detail)
+                if stop_at_failure:
+                    return True
         return False
 
     integ = Integrator(
@@ -338,7 +336,9 @@ def simulate(
     d_final = red.expand(out["d"])
     ev = sysm.evaluate(d_final, state)
     H = {k: np.asarray(v) for k, v in hist.items()}
-    numerical = bool(out["failed_numerically"]) and not failure
+    numerical = "numerical" in verdict or (bool(out["failed_numerically"]) and not verdict)
+    failed = "time" in verdict and not numerical
+    message = verdict.get("numerical") or out["message"] or None
     return FEMResult(
         time=H["t"],
         displacement=H["x"],
@@ -351,13 +351,17 @@ def simulate(
         rim_force=H["rim"],
         rim_root_plastic_strain=H["root_p"],
         rim_root_yielded_fraction=H["root_frac"],
+        rim_regularised_plastic_strain=H["regular"],
         max_plastic_strain=float(state.material.eq_plastic_strain.max()),
-        hinge_times=dict(hinges),
+        hinge_times=dict(watch.hinge_times),
+        limit_states=dict(watch.times),
+        failure_criterion=failure_criterion,
+        kinematics=kinematics,
         energy={k: v * depth for k, v in out["energy"].items()},
-        failed=bool(failure),
-        failure_mode=failure.get("mode"),
-        failure_time=failure.get("time"),
-        failure_detail=failure.get("detail") if failure else (out["message"] or None),
+        failed=failed,
+        failure_mode=verdict.get("mode") if failed else None,
+        failure_time=verdict.get("time") if failed else None,
+        failure_detail=verdict.get("detail") if failed else message,
         numerical_failure=numerical,
         steps=integ.steps,
         newton_iterations=integ.newton_iterations,
@@ -372,41 +376,3 @@ def simulate(
         bearing=bearing,
         mesh=mesh,
     )
-
-
-def _check_failure(bearing, sysm, d, pose, vertices, corners, nd, frac, stop_at_hinge):
-    """(mode, detail) of a failure at this state, or (None, None): the hinge, escape and
-    labelling rules of docs/theory/finite-elements.md, Eqs. F36–F38."""
-    hinge = [f >= 1.0 for f in frac]
-    for k, name in enumerate(RIMS):
-        if hinge[k] and stop_at_hinge:
-            return "yielding", f"plastic hinge across the root of the {name} rim"
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    vx = pose[0] + c * vertices[0] - s * vertices[1]
-    vz = pose[1] + s * vertices[0] + c * vertices[1]
-    p = sysm.fe.mesh.p
-    for name in RIMS:
-        node = corners[name]
-        cx = p[0, node] + d[nd[0, node]]
-        cz = p[1, node] + d[nd[1, node]]
-        side = math.copysign(1.0, cx)
-        top = name.startswith("top")
-        idx = (2, 3) if top else (0, 1)
-        for j in idx:
-            outside = side * (vx[j] - cx) > 0
-            past = (vz[j] < cz) if top else (vz[j] > cz)
-            if outside and past:
-                which = "top" if top else "bottom"
-                # climbed above the rim's undeformed corner: uplift; passed only because the
-                # hinged rim was pushed out of the way: yielding
-                z0 = p[1, node]
-                climbed = (vz[j] < z0) if top else (vz[j] > z0)
-                mode = "yielding" if hinge[RIMS.index(name)] and not climbed else "uplift"
-                return mode, f"a {which} slider vertex cleared the {name} rim"
-    r_in = bearing.rim_radius
-    x_top = float(np.mean(d[nd[0, corners["top -x"]]]))
-    if abs(pose[0]) > r_in or abs(pose[0] - x_top) > r_in:
-        return ("yielding" if any(hinge) else "uplift"), "the slider's centroid passed a rim"
-    if abs(pose[2]) > 0.25 * math.pi:
-        return "uplift", "the slider overturned (|θ| > 45°)"
-    return None, None

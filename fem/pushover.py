@@ -64,6 +64,8 @@ class Pushover:
     plate : BottomPlate
     final_displacement : ndarray [m]
         Nodal displacements at the last step (plate dofs).
+    final_plastic_strain : ndarray [-]
+        Equivalent plastic strain at the quadrature points (elements, points) at the last step.
     """
 
     displacement: np.ndarray
@@ -76,6 +78,7 @@ class Pushover:
     dofs: int
     plate: BottomPlate
     final_displacement: np.ndarray
+    final_plastic_strain: np.ndarray
 
 
 def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
@@ -194,5 +197,5 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         hinge_displacement=None if hinge is None else hinge[0],
         hinge_force=None if hinge is None else hinge[1],
         max_plastic_strain=np.array(out["p"]), kinematics=kinematics, dofs=fe.ndofs,
-        plate=plate, final_displacement=u,
+        plate=plate, final_displacement=u, final_plastic_strain=state.eq_plastic_strain,
     )

@@ -96,6 +96,12 @@ class DFPBearing:
         Post-yield to elastic stiffness ratio E_t/E. *Paper*: 0.01.
     plate_thickness : float [m]
         Plate thickness under the dish apex, FE model only. *Assumed* 0.06 m.
+    rupture_strain : float [-]
+        Equivalent (logarithmic) plastic strain at which the rim steel ruptures, averaged over
+        a gauge of the rim's thickness (the FE model's "rupture" limit state). Default
+        ln(1 + 0.21) = 0.19: the minimum elongation at fracture of ASTM A572 Grade 50 (the
+        paper's 345/450 MPa steel), 21 % in a 50 mm gauge; EN 10025-2 S355 gives 22 %
+        (docs/theory/finite-elements.md, "Limit states").
     """
 
     pressure: float = 60e6
@@ -119,12 +125,13 @@ class DFPBearing:
     ultimate_stress: float = 450e6
     hardening_ratio: float = 0.01
     plate_thickness: float = 0.06
+    rupture_strain: float = 0.1906
 
     def __post_init__(self):
         positive = (
             "pressure radius slider_diameter slider_height capacity rim_height rim_thickness "
             "contact_stiffness friction_yield_slip design_period steel_density youngs_modulus "
-            "yield_stress ultimate_stress plate_thickness"
+            "yield_stress ultimate_stress plate_thickness rupture_strain"
         ).split()
         if self.impact_mass not in ("supported", "slider"):
             raise ValueError(

@@ -90,44 +90,61 @@ def test_rims_reached_when_the_rigid_model_says(heavy_run):
     assert first == pytest.approx(rb.impacts[0].time, rel=0.02)
 
 
-def test_escape_criteria(mesh_cache):
-    """The escape test on hand-made states of the coarse model (geometry from DFPBearing):
-    a bottom vertex beyond the +x bottom rim's corner and above it is uplift; the same vertex
-    past a corner pushed 10 mm outward and down by a hinged rim, but below the undeformed
-    corner, is yielding; a slider turned by more than 45° is uplift; at rest nothing fails."""
+def test_containment_and_its_mode(mesh_cache):
+    """The containment check on hand-made states of the coarse model (geometry from DFPBearing;
+    docs/theory/finite-elements.md, Eqs. F37, F53): a bottom vertex beyond the +x bottom rim's
+    corner and above it is uplift (it climbed over); the same vertex past a corner pushed 10 mm
+    outward and down, but below the undeformed corner, is yielding (the rim let go); a slider
+    turned by more than 45° is uplift; at rest nothing happens."""
     from fem.dfp import build_system
-    from fem.model import _check_failure, _corner_nodes
+    from fem.limit_states import LimitStates
 
     bearing = DFPBearing()
     model = build_system(bearing, mesh_options=COARSE_MESH, cache_dir=mesh_cache)
-    sysm = model.system
-    nd = sysm.fe.basis.nodal_dofs
-    corners = _corner_nodes(model.mesh, bearing)
-    vertices = sysm.shape.vertices
-    d = np.zeros(sysm.size)
+    watch = LimitStates(bearing, model)
+    nd = model.system.fe.basis.nodal_dofs
+    vertices = model.system.shape.vertices
+    d = np.zeros(model.system.size)
     half_b, half_e = vertices[0, 1], vertices[1, 3]  # right vertices; top z = +half_e
     r_in, z_top = bearing.rim_radius, bearing.rim_top
-    no_hinge = [0.0] * 4
 
-    def check(pose, frac=no_hinge, disp=d):
-        return _check_failure(bearing, sysm, disp, np.asarray(pose), vertices, corners, nd,
-                              frac, False)[0]
+    def mode(pose, disp=d):
+        return watch._containment(disp, np.asarray(pose))[0]
 
-    rest = [0.0, bearing.slider_height / 2, 0.0]
-    assert check(rest) is None
+    assert mode([0.0, bearing.slider_height / 2, 0.0]) is None
     # bottom-right vertex 5 mm outside and 5 mm above the corner (θ = 0)
-    climbed = [r_in + 0.005 - half_b, z_top + 0.005 + half_e, 0.0]
-    assert check(climbed) == "uplift"
+    assert mode([r_in + 0.005 - half_b, z_top + 0.005 + half_e, 0.0]) == "uplift"
     # rim corner pushed 10 mm outward and 10 mm down; the vertex is past it but 5 mm below
     # the undeformed corner
     pushed = d.copy()
-    node = corners["bottom +x"]
+    node = watch.corners["bottom +x"]
     pushed[nd[0, node]] = 0.010
     pushed[nd[1, node]] = -0.010
     past = [r_in + 0.015 - half_b, z_top - 0.005 + half_e, 0.0]
-    assert check(past, [0.0, 1.0, 0.0, 0.0], pushed) == "yielding"
-    assert check(past, no_hinge, pushed) == "uplift"  # no hinge: cannot be yielding
-    assert check([0.0, bearing.slider_height / 2, 0.9]) == "uplift"  # overturned
+    assert mode(past, pushed) == "yielding"
+    assert mode(past) is None  # the rim where it was: the vertex is still held
+    assert mode([0.0, bearing.slider_height / 2, 0.9]) == "uplift"  # overturned
+
+
+def test_limit_state_verdicts(mesh_cache):
+    """Under each criterion the run fails at the first of that limit state and containment:
+    a hinge at 1 s and containment at 2 s fail a "hinge" run at 1 s by yielding and a
+    "containment" run at 2 s by the containment's mode; a containment before any hinge fails
+    even a "hinge" run, at its time and with its mode; nothing reached, no failure."""
+    from fem.dfp import build_system
+    from fem.limit_states import LimitStates
+
+    bearing = DFPBearing()
+    watch = LimitStates(bearing, build_system(bearing, mesh_options=COARSE_MESH,
+                                              cache_dir=mesh_cache))
+    assert watch.verdict("hinge") == (False, None, None, None)
+    watch.times.update(hinge=1.0, containment=2.0)
+    watch.hinge_rim, watch.mode, watch.detail = "bottom +x", "uplift", "climbed"
+    assert watch.verdict("hinge")[:3] == (True, 1.0, "yielding")
+    assert watch.verdict("rupture")[:3] == (True, 2.0, "uplift")
+    assert watch.verdict("containment")[:3] == (True, 2.0, "uplift")
+    watch.times.update(hinge=3.0)
+    assert watch.verdict("hinge")[:3] == (True, 2.0, "uplift")
 
 
 # -- uplift: the light bearing with rims that cannot yield --------------------------------------
@@ -143,8 +160,12 @@ def light_pulse():
 
 
 def light_run(cache, **kwargs):
+    """The light bearing's uplift runs at small strain: they are about the mechanism and the
+    energy step control; with finite deformation the same flight and landing costs 10 times
+    more and closes its energy balance less well (docs/fe-companion.md, "Finite deformation")."""
     return fem.simulate(DFPBearing(pressure=10e6), light_pulse(), 0.005, mesh_options=COARSE_MESH,
-                        max_step=0.01, duration=3.0, cache_dir=cache, **kwargs)
+                        max_step=0.01, duration=3.0, cache_dir=cache, kinematics="small",
+                        **kwargs)
 
 
 @pytest.fixture(scope="module")

@@ -19,6 +19,7 @@ import sys
 import warnings
 from pathlib import Path
 
+from fem.limit_states import LIMIT_STATES
 from rigid.limits import (
     MAX_RECORD_ACCELERATION,
     MAX_SA_STOP,
@@ -264,7 +265,9 @@ def validate(args) -> int:
     fem = None
     if args.fem:
         step = args.fem_step or (QUICK_FEM_STEP if args.quick else FULL_FEM_STEP)
-        fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step))
+        fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
+                         kinematics=args.fem_kinematics,
+                         limit_states=tuple(dict.fromkeys(args.limit_state)))
     settings = Settings(
         pressures=tuple(p * 1e6 for p in args.pressure), criteria=tuple(criteria),
         stop=args.stop * G, search=args.search, fem=fem,
@@ -296,8 +299,10 @@ def validate(args) -> int:
         for r in found:
             sa = "no failure" if r.sa is None else f"{r.sa / G:.2f} g ({r.failure_mode})"
             rigid_sa = "none" if r.rigid_sa is None else f"{r.rigid_sa / G:.2f} g"
-            print(f"  FE {pressure / 1e6:g} MPa {r.name}: critical SA {sa}; rigid {rigid_sa}; "
-                  f"{r.runs} FE runs")
+            flag = f", {r.numerical_runs} numerical" if r.numerical_runs else ""
+            flag += ", UNCERTAIN" if r.uncertain else ""
+            print(f"  FE {pressure / 1e6:g} MPa {r.name} ({r.limit_state}): critical SA {sa}; "
+                  f"rigid {rigid_sa}; {r.runs} FE runs{flag}")
     path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
                         title="DFP bearing failure: validation run", record_set=label,
                         fem=fem_results)
@@ -423,6 +428,11 @@ def build_parser() -> argparse.ArgumentParser:
                    f"{QUICK_FEM_RECORDS})")
     p.add_argument("--fem-pressure", type=_PRESSURE, nargs="+",
                    help="pressures [MPa] with FE runs (default all; --quick: the first)")
+    p.add_argument("--limit-state", nargs="+", choices=LIMIT_STATES, default=["hinge"],
+                   help="FE limit states searched, each its own FE critical SA sharing the "
+                   "same runs (default hinge; docs/theory/finite-elements.md, 'Limit states')")
+    p.add_argument("--fem-kinematics", choices=("finite", "small"), default="finite",
+                   help="FE kinematics: finite deformation (default) or small strain")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
     p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),

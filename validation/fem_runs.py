@@ -10,6 +10,7 @@ import time
 import numpy as np
 
 from fem.geometry import COARSE_MESH
+from fem.limit_states import LIMIT_STATES
 from rigid import DFPBearing, G
 from rigid.collapse.trimming import QUIET_FRACTION, quiet_after, trimmed_window
 from rigid.model import reach_energy
@@ -52,7 +53,7 @@ def _duration_guess(bearing, a, dt, window, total, margin) -> float:
 def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str = "coarse",
             max_step: float = 5e-3, impact_step: float = 5e-4, trim: str = "end",
             free: float = 20.0, lead: float = 0.1, margin: float = 1.0,
-            simulate=None) -> dict:
+            kinematics: str = "finite", criterion: str = "hinge", simulate=None) -> dict:
     """One FE run of a scaled record, trimmed (module docstring); runs in a worker.
 
     Parameters
@@ -72,6 +73,11 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         (default), also start at its beginning, or run the record plus ``free`` seconds.
     free : float [s]
         Longest time simulated after the record.
+    kinematics : {"finite", "small"}
+        :func:`fem.simulate`'s kinematics.
+    criterion : {"hinge", "rupture", "containment"}
+        The limit state that ends the run (:func:`fem.simulate`'s ``failure_criterion``); the
+        earlier ones are recorded on the way (``limit_states``).
     lead, margin : float [s]
         Start this long before the first strong sample; simulate this long beyond the guessed
         quiet time.
@@ -82,10 +88,12 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     -------
     dict
         ``failed``, ``failure_mode``, ``failure_time`` [s from the record's start],
-        ``numerical_failure``, ``detail``, ``start``, ``strong_end``, ``end`` [s] (what was
-        simulated), ``energy_end``, ``reach_energy`` [J], ``quiet`` (energy below the bound
-        at the end: the verdict is final), ``runs`` (1, or 2 when the guessed end was not
-        quiet), ``steps``, ``newton_iterations``, ``dofs``, ``max_plastic_strain``,
+        ``numerical_failure``, ``detail``, ``limit_states`` (name → time [s from the record's
+        start] or None, as far as the run went), ``kinematics``, ``criterion``, ``start``,
+        ``strong_end``, ``end`` [s] (what was simulated), ``energy_end``, ``reach_energy``
+        [J], ``quiet`` (energy below the bound at the end: the verdict is final), ``runs``
+        (1, or 2 when the guessed end was not quiet), ``steps``, ``newton_iterations``,
+        ``dofs``, ``max_plastic_strain``,
         ``max_rim_force`` [N], ``cpu_seconds``, ``wall_seconds``.
     """
 
@@ -100,7 +108,9 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     reach = reach_energy(b)
     window = trimmed_window(b, a, dt, trim, lead=lead)
     out = {"failed": False, "failure_mode": None, "failure_time": None,
-           "numerical_failure": False, "detail": None, "start": None, "strong_end": None,
+           "numerical_failure": False, "detail": None,
+           "limit_states": dict.fromkeys(LIMIT_STATES), "kinematics": kinematics,
+           "criterion": criterion, "start": None, "strong_end": None,
            "end": None, "energy_end": 0.0, "reach_energy": reach, "quiet": True, "runs": 0,
            "steps": 0, "newton_iterations": 0, "dofs": 0, "max_plastic_strain": 0.0,
            "max_rim_force": 0.0}
@@ -113,12 +123,15 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
                  total]
     for duration in dict.fromkeys(durations):  # the guess, then (if needed) the whole rest
         res = simulate(b, a[window.start:], dt, duration=duration,
-                       mesh_options=MESHES[mesh], max_step=max_step, impact_step=impact_step)
+                       mesh_options=MESHES[mesh], max_step=max_step, impact_step=impact_step,
+                       kinematics=kinematics, failure_criterion=criterion)
         energy = fem_mechanical_energy(res)
         out.update(
             failed=bool(res.failed), failure_mode=res.failure_mode,
             failure_time=None if res.failure_time is None else t0 + res.failure_time,
             numerical_failure=bool(res.numerical_failure), detail=res.failure_detail,
+            limit_states={k: None if v is None else t0 + v
+                          for k, v in res.limit_states.items()},
             start=t0, strong_end=window.end * dt, end=t0 + float(res.time[-1]),
             energy_end=float(energy[-1]), runs=out["runs"] + 1,
             steps=out["steps"] + res.steps,

@@ -10,12 +10,15 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+from fem.dfp import KINEMATICS
+from fem.limit_states import LIMIT_STATES
 from rigid import DFPBearing
 from rigid.tasks import ResultStore, Task, run_tasks, task_key
 
 from .fem_runs import MESHES, fem_run
 
-__all__ = ["BracketBisect", "FECritical", "FESearches", "FESettings", "run_fem_searches"]
+__all__ = ["BracketBisect", "FECritical", "FESearches", "FESettings", "failed_under",
+           "run_criterion", "run_fem_searches"]
 
 
 class BracketBisect:
@@ -89,7 +92,8 @@ class BracketBisect:
 @dataclass(frozen=True)
 class FESettings:
     """How the FE critical SA is searched. Keyed into every stored FE run (with the bearing,
-    the record and the scale)."""
+    the record and the scale), except ``limit_states``: the runs stop at the last of them
+    (:func:`run_criterion`), so the searches of all of them share their runs."""
 
     mesh: str = "coarse"
     max_step: float = 5e-3
@@ -98,18 +102,59 @@ class FESettings:
     free: float = 20.0
     lead: float = 0.1
     margin: float = 1.0
+    kinematics: str = "finite"
+    limit_states: tuple = ("hinge",)
+
+    def __post_init__(self):
+        unknown = [s for s in self.limit_states if s not in LIMIT_STATES]
+        if unknown or not self.limit_states:
+            raise ValueError(f"limit_states must be some of {', '.join(LIMIT_STATES)}, got "
+                             f"{self.limit_states!r}")
+        if self.kinematics not in KINEMATICS:
+            raise ValueError(f"kinematics must be one of {', '.join(KINEMATICS)}, got "
+                             f"{self.kinematics!r}")
+
+    def run_options(self) -> dict:
+        """Keyword arguments of :func:`fem_run` (what keys a stored run)."""
+        options = dataclasses.asdict(self)
+        del options["limit_states"]
+        return {**options, "criterion": run_criterion(self.limit_states)}
 
     def describe(self) -> dict:
         return {"FE mesh": f"{self.mesh} ({MESHES[self.mesh] or 'generator defaults'})",
                 "FE time step [s]": f"{self.max_step:g} free sliding, {self.impact_step:g} "
                 "at a rim", "FE trimming": {"end": "after the strong motion, once quiet",
                                      "window": "strong-motion window",
-                                     "none": "none"}[self.trim]}
+                                     "none": "none"}[self.trim],
+                "FE kinematics": {"finite": "finite deformation",
+                                  "small": "small strain"}[self.kinematics],
+                "FE limit states": ", ".join(self.limit_states)}
+
+
+def run_criterion(limit_states) -> str:
+    """The limit state an FE run must go on to so that it decides all of ``limit_states``:
+    the last of them in :data:`fem.limit_states.LIMIT_STATES` order (a run that stops at
+    containment has recorded the hinge and the rupture before it)."""
+    return max(limit_states, key=LIMIT_STATES.index)
+
+
+def failed_under(result: dict, limit_state: str) -> bool | None:
+    """The verdict of a stored FE run under ``limit_state``: True if the run reached it or lost
+    containment (failure under any limit state), False if not, None if the run failed
+    numerically (neither a failure nor a survival). Runs without ``limit_states`` (stand-in
+    runners) give their own ``failed``."""
+    if result.get("numerical_failure"):
+        return None
+    times = result.get("limit_states")
+    if times is None:
+        return bool(result["failed"])
+    return times.get(limit_state) is not None or times.get("containment") is not None
 
 
 @dataclass
 class FECritical:
-    """FE critical SA of one record at one pressure, and the runs that found it.
+    """FE critical SA of one record at one pressure under one limit state, and the runs that
+    found it.
 
     Attributes
     ----------
@@ -122,10 +167,15 @@ class FECritical:
     survived_below : float or None [m/s²]
         The bracket's highest surviving rung below ``sa`` (None when the lowest rung failed).
     failure_mode : str or None
-        Of the run at ``sa``.
+        Of the run at ``sa``: "yielding" or "uplift" if it lost containment there, "yielding"
+        if it only reached a hinge or a rupture.
     failure_time : float or None [s]
+        When the run at ``sa`` reached the limit state (or lost containment, if earlier).
     probes : list of dict
-        Every run in the order made: ``sa`` [m/s²], ``scale``, and the run's result.
+        Every run of this search in the order made: ``sa`` [m/s²], ``scale``, ``failed``
+        (under this limit state; None if numerical) and the run's result.
+    limit_state : str
+        "hinge", "rupture" or "containment" (docs/theory/finite-elements.md, "Limit states").
     """
 
     name: str
@@ -136,6 +186,7 @@ class FECritical:
     failure_mode: str | None = None
     failure_time: float | None = None
     probes: list = field(default_factory=list)
+    limit_state: str = "hinge"
 
     @property
     def runs(self) -> int:
@@ -145,12 +196,37 @@ class FECritical:
     def cpu_seconds(self) -> float:
         return sum(p["cpu_seconds"] for p in self.probes)
 
+    @property
+    def numerical_runs(self) -> int:
+        """Probes that failed numerically (taken as failures to steer the bisection)."""
+        return sum(p["failed"] is None for p in self.probes)
+
+    @property
+    def uncertain(self) -> bool:
+        """True when a numerical probe lies at or below the answer (or there is no answer and
+        a probe was numerical): the critical SA depends on it."""
+        return any(p["failed"] is None and (self.sa is None or p["sa"] <= self.sa + 1e-9)
+                   for p in self.probes)
+
+
+def _verdict_of(result: dict, limit_state: str):
+    """(mode, time [s]) of a run that failed under ``limit_state``."""
+    times = result.get("limit_states")
+    if times is None:
+        return result.get("failure_mode"), result.get("failure_time")
+    t_state, t_lost = times.get(limit_state), times.get("containment")
+    if t_lost is not None and (t_state is None or t_lost <= t_state):
+        return result.get("failure_mode") or "yielding", t_lost
+    return "yielding", t_state
+
 
 class FESearches:
     """Several FE critical-SA searches driven through :func:`rigid.tasks.runner.run_tasks`:
-    :meth:`add` gives a search's first task, :meth:`follow_up` its next one from each result,
-    :meth:`results` the answers. A caller can add searches from its own follow-ups (the
-    validation pipeline starts a record's FE search as soon as its rigid result arrives).
+    :meth:`add` gives a record's first tasks, :meth:`follow_up` the next ones from each
+    result, :meth:`results` the answers. One search per record and limit state; searches that
+    ask for the same run share it (one stored task). A caller can add records from its own
+    follow-ups (the validation pipeline starts a record's FE searches as soon as its rigid
+    result arrives).
 
     Parameters
     ----------
@@ -158,8 +234,9 @@ class FESearches:
     step, start, stop : float [m/s²]
         The ladder: rungs at start + j·step ≤ stop (the rigid ladder's).
     runner : callable
-        ``runner(bearing=dict, acceleration, dt, scale, **settings)`` → dict with at least
-        ``failed``, ``failure_mode``, ``failure_time``, ``cpu_seconds``; :func:`fem_run`, or a
+        ``runner(bearing=dict, acceleration, dt, scale, **settings.run_options())`` → dict
+        with at least ``failed``, ``failure_mode``, ``failure_time``, ``cpu_seconds`` (and
+        ``limit_states``, ``numerical_failure`` when it has them); :func:`fem_run`, or a
         stand-in (tests).
     """
 
@@ -173,47 +250,87 @@ class FESearches:
         # a stand-in runner (tests) is keyed by its name; fem_run by the code of the models
         self.runner_name = (None if runner is fem_run
                             else f"{runner.__module__}.{runner.__qualname__}")
-        self.options = dataclasses.asdict(settings)
-        self.targets, self.searches, self.found, self.by_key = [], [], [], {}
+        self.limit_states = tuple(settings.limit_states)
+        self.options = settings.run_options()
+        self.targets, self.searches, self.found = [], [], []
+        self.by_key: dict = {}     # task key → (target, rung)
+        self.waiting: dict = {}    # task key → searches waiting for its result
+        self.outcomes: dict = {}   # task key → result
 
-    def _task(self, i, j) -> Task:
+    def _key(self, i, j) -> tuple:
         bearing, motion, rigid_crit = self.targets[i]
         scale = (self.start + j * self.step) / rigid_crit.record_sa
         kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
                   "dt": motion.dt, "scale": scale, **self.options}
-        key = task_key(self.kind, ("rigid", "collapse", "fem"), runner=self.runner_name, **kwargs)
-        self.by_key[key] = (i, j)
-        return Task(key, self.kind, self.runner, kwargs)
+        key = task_key(self.kind, ("rigid", "collapse", "fem"), runner=self.runner_name,
+                       **kwargs)
+        return key, kwargs
 
-    def add(self, bearing: DFPBearing, motion, rigid_crit) -> Task:
-        """Start a search (``rigid_crit``: the rigid model's CriticalSA); its first task."""
-        i = len(self.targets)
+    def _advance(self, k) -> list:
+        """Ask for search k's next rung: new tasks to run (none if its run is already known or
+        under way)."""
+        tasks = []
+        while True:
+            j = self.searches[k].next_rung()
+            if j is None:
+                return tasks
+            i = k // len(self.limit_states)
+            key, kwargs = self._key(i, j)
+            if key in self.outcomes:
+                self._record(k, j, key)
+                continue
+            if key not in self.waiting:
+                self.waiting[key] = []
+                self.by_key[key] = (i, j)
+                tasks.append(Task(key, self.kind, self.runner, kwargs))
+            self.waiting[key].append(k)
+            return tasks
+
+    def _record(self, k, j, key) -> None:
+        result = self.outcomes[key]
+        failed = failed_under(result, self.found[k].limit_state)
+        self.searches[k].record(j, True if failed is None else failed)
+        record_sa = self.targets[k // len(self.limit_states)][2].record_sa
+        sa = self.start + j * self.step
+        self.found[k].probes.append({"sa": sa, **result, "scale": sa / record_sa,
+                                     "failed": failed})
+
+    def add(self, bearing: DFPBearing, motion, rigid_crit) -> tuple:
+        """Start a record's searches, one per limit state (``rigid_crit``: the rigid model's
+        CriticalSA, whose rung starts them); their first tasks."""
         self.targets.append((bearing, motion, rigid_crit))
         j0 = (self.highest if rigid_crit.sa is None
               else round((rigid_crit.sa - self.start) / self.step))
-        self.searches.append(BracketBisect(j0, 0, self.highest))
-        self.found.append(FECritical(motion.name, bearing.pressure, rigid_crit.sa))
-        return self._task(i, self.searches[i].next_rung())
+        tasks = []
+        for state in self.limit_states:
+            self.searches.append(BracketBisect(j0, 0, self.highest))
+            self.found.append(FECritical(motion.name, bearing.pressure, rigid_crit.sa,
+                                         limit_state=state))
+            tasks += self._advance(len(self.searches) - 1)
+        return tuple(tasks)
 
     def follow_up(self, done_task, result) -> tuple:
-        """The search's next task after ``done_task`` (one of ours), or ()."""
-        i, j = self.by_key[done_task.key]
-        s = self.searches[i]
-        if s.done or s.next_rung() != j:
-            return ()  # a duplicate outcome (not expected: every rung is asked for once)
-        s.record(j, bool(result["failed"]))
-        self.found[i].probes.append({"sa": self.start + j * self.step,
-                                     "scale": done_task.kwargs["scale"], **result})
-        nxt = s.next_rung()
-        return () if nxt is None else (self._task(i, nxt),)
+        """The next tasks after ``done_task`` (one of ours), or ()."""
+        key = done_task.key
+        if key in self.outcomes:
+            return ()  # a duplicate outcome (not expected: every run is asked for once)
+        self.outcomes[key] = result
+        _, j = self.by_key[key]
+        tasks = []
+        for k in self.waiting.pop(key, []):
+            self._record(k, j, key)
+            tasks += self._advance(k)
+        return tuple(tasks)
 
     def results(self) -> list:
-        """FECritical of every search, in the order added (complete once run_tasks returns)."""
+        """FECritical of every search, by record in the order added, then by limit state
+        (complete once run_tasks returns)."""
         for s, r in zip(self.searches, self.found, strict=True):
             if s.critical is not None:
                 r.sa = self.start + s.critical * self.step
                 at = next(p for p in r.probes if math.isclose(p["sa"], r.sa))
-                r.failure_mode, r.failure_time = at["failure_mode"], at["failure_time"]
+                if at["failed"]:
+                    r.failure_mode, r.failure_time = _verdict_of(at, r.limit_state)
             if s.lo is not None and (s.critical is None or s.lo < s.critical):
                 r.survived_below = self.start + s.lo * self.step
         return self.found
@@ -236,10 +353,10 @@ def run_fem_searches(targets, settings: FESettings, store: ResultStore, *, step:
 
     Returns
     -------
-    list of FECritical, in the order of ``targets``.
+    list of FECritical, by target in the order of ``targets``, then by limit state.
     """
     searches = FESearches(settings, step=step, start=start, stop=stop, runner=runner)
-    first = [searches.add(*t) for t in targets]
+    first = [task for t in targets for task in searches.add(*t)]
     run_tasks(first, store, follow_up=searches.follow_up, scheduler=scheduler,
               workers=workers, progress=progress, description="FE critical SA")
     return searches.results()

@@ -189,8 +189,8 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
             return ()
         pressure, i = index[task.key]
         owners.append((pressure, i))
-        return (searches.add(DFPBearing(pressure=pressure), motions[i],
-                             _critical_from_json(result["actual"])),)
+        return searches.add(DFPBearing(pressure=pressure), motions[i],
+                            _critical_from_json(result["actual"]))
 
     with ResultStore(out / "results.sqlite") as store:
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
@@ -201,7 +201,10 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
     if searches is not None:
         order = {key: k for k, key in enumerate(sorted(targets, key=lambda t: (
             settings.pressures.index(t[0]), t[1])))}
-        for owner, found in sorted(zip(owners, searches.results(), strict=True),
-                                   key=lambda x: order[x[0]]):
-            fem.setdefault(owner[0], []).append(found)
+        per_target = len(settings.fem.limit_states)
+        found = searches.results()
+        by_target = [found[k * per_target:(k + 1) * per_target] for k in range(len(owners))]
+        for owner, searched in sorted(zip(owners, by_target, strict=True),
+                                      key=lambda x: order[x[0]]):
+            fem.setdefault(owner[0], []).extend(searched)
     return rigid_results, fem

@@ -105,9 +105,12 @@ def spectrum_attrs(bearing: DFPBearing, kind: str, settings: SweepSettings, **ex
 
 
 def bearing_from_attrs(ds) -> DFPBearing:
-    """Rebuild the :class:`DFPBearing` recorded in a spectrum's ``bearing_*`` attributes."""
+    """Rebuild the :class:`DFPBearing` recorded in a spectrum's ``bearing_*`` attributes (a
+    field the file predates keeps its default)."""
     kwargs = {}
     for f in dataclasses.fields(DFPBearing):
+        if f"bearing_{f.name}" not in ds.attrs:
+            continue
         value = ds.attrs[f"bearing_{f.name}"]
         kwargs[f.name] = str(value) if f.name == "impact_mass" else float(value)
     return DFPBearing(**kwargs)

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.limit_states import LIMIT_STATES
 from rigid import G
 from rigid.collapse.comparison import comparison_rows, ladder_rows, table2, write_csv
 
@@ -161,8 +162,9 @@ def _save_figure(fig, path: Path) -> Path:
 
 
 def fem_rows(fem: dict) -> list[dict]:
-    """One row per FE search: record, pressure_mpa, rigid and FE critical SA [g], their ratio,
-    the FE failure mode and time [s], the highest surviving SA below it [g], runs, CPU [min]."""
+    """One row per FE search: record, pressure_mpa, the limit state, rigid and FE critical SA
+    [g], their ratio, the FE failure mode and time [s], the highest surviving SA below it [g],
+    runs (numerical ones, and whether the answer depends on them), CPU [min]."""
     rows = []
     for pressure, found in fem.items():
         for r in found:
@@ -170,27 +172,35 @@ def fem_rows(fem: dict) -> list[dict]:
                 else None
             rows.append({
                 "record": r.name, "pressure_mpa": pressure / 1e6,
+                "limit_state": r.limit_state,
                 "rigid_sa_g": None if r.rigid_sa is None else r.rigid_sa / G,
                 "fem_sa_g": None if r.sa is None else r.sa / G,
                 "fem_over_rigid": ratio,
                 "fem_failure_mode": r.failure_mode or "none",
                 "fem_failure_time_s": r.failure_time,
                 "survived_below_g": None if r.survived_below is None else r.survived_below / G,
-                "fem_runs": r.runs, "cpu_min": r.cpu_seconds / 60,
+                "fem_runs": r.runs, "numerical_runs": r.numerical_runs,
+                "uncertain": r.uncertain, "cpu_min": r.cpu_seconds / 60,
             })
     return rows
 
 
 def fem_run_rows(fem: dict) -> list[dict]:
-    """Every FE run, in the order each search made them."""
+    """Every FE run, in the order each search made them (a run shared by the searches of
+    several limit states is listed under each, with that limit state's verdict: ``failed``
+    True, False or "numerical"), with the times [s] it reached each limit state."""
     rows = []
     for pressure, found in fem.items():
         for r in found:
             for k, p in enumerate(r.probes):
+                times = p.get("limit_states") or {}
                 rows.append({
-                    "record": r.name, "pressure_mpa": pressure / 1e6, "run": k + 1,
-                    "sa_g": p["sa"] / G, "scale": p["scale"], "failed": bool(p["failed"]),
+                    "record": r.name, "pressure_mpa": pressure / 1e6,
+                    "limit_state": r.limit_state, "run": k + 1,
+                    "sa_g": p["sa"] / G, "scale": p["scale"],
+                    "failed": "numerical" if p["failed"] is None else bool(p["failed"]),
                     "failure_mode": p.get("failure_mode") or "none",
+                    **{f"{state}_s": times.get(state) for state in LIMIT_STATES},
                     "failure_time_s": p.get("failure_time"),
                     "numerical_failure": bool(p.get("numerical_failure", False)),
                     "start_s": p.get("start"), "strong_end_s": p.get("strong_end"),
@@ -211,18 +221,29 @@ _MODES = {"yielding": ("^", "rim yielding"), "uplift": ("o", "uplift"),
           "none": ("v", "no FE failure (at the top)")}
 
 
-def plot_fem_vs_rigid(rows: list[dict], stop: float, ax=None):
-    """Paper Fig. 4: FE against rigid critical SA(Tb) [g] per record, 1:1 line, FE failure
-    mode by marker, pressure by colour; a search without failure sits at ``stop`` [g]."""
+def plot_fem_vs_rigid(rows: list[dict], stop: float):
+    """Paper Fig. 4: FE against rigid critical SA(Tb) [g] per record, one panel per limit
+    state, 1:1 line and ±20 % band, FE failure mode by marker, pressure by colour; a search
+    without failure sits at ``stop`` [g]."""
     import matplotlib.pyplot as plt
 
-    if ax is None:
-        _, ax = plt.subplots(figsize=(4.8, 4.8))
+    states = [s for s in LIMIT_STATES if any(r["limit_state"] == s for r in rows)]
+    fig, axes = plt.subplots(1, len(states), figsize=(4.4 * len(states), 4.6), squeeze=False)
+    for ax, state in zip(axes[0], states, strict=True):
+        _fem_vs_rigid_panel(ax, [r for r in rows if r["limit_state"] == state], stop)
+        ax.set_title(f"FE limit state: {state}", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def _fem_vs_rigid_panel(ax, rows, stop):
     colours = dict(zip(sorted({r["pressure_mpa"] for r in rows}, reverse=True),
                        ("tab:red", "tab:blue", "tab:green", "tab:purple"), strict=False))
     values = [stop if v is None else v for r in rows for v in (r["rigid_sa_g"], r["fem_sa_g"])]
     top = 1.1 * max([*values, 0.1])
     ax.plot([0, top], [0, top], "k-", lw=1, label="1:1")
+    ax.fill_between([0, top], [0, 0.8 * top], [0, 1.2 * top], color="0.9", lw=0,
+                    label="±20 %")
     seen = set()
     for r in rows:
         mode = r["fem_failure_mode"] if r["fem_sa_g"] is not None else "none"
@@ -240,7 +261,6 @@ def plot_fem_vs_rigid(rows: list[dict], stop: float, ax=None):
     ax.set_xlabel("rigid model critical SA(Tb) [g]")
     ax.set_ylabel("FE model critical SA(Tb) [g]")
     ax.legend(fontsize=7, loc="upper left")
-    return ax.figure
 
 
 def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
@@ -397,31 +417,44 @@ def _fem_section(report, fem, settings, out, figures) -> dict:
     write_csv(rows, out / "fem_comparison.csv")
     write_csv(runs, out / "fem_runs.csv")
     report.heading("FE against rigid critical SA (paper Fig. 4)")
-    cpu = sum(r["cpu_min"] for r in rows)
+    unique = {(r["record"], r["pressure_mpa"], r["sa_g"]): r["cpu_s"] or 0.0 for r in runs}
+    cpu = sum(unique.values()) / 60
     report.paragraph(
         "FE critical SA(4.5 s): the FE model (fem.simulate, plane strain, elastoplastic rims) "
         "run on the scaled record, starting at the rigid model's critical SA and stepping down "
         "(FE failure) or up (no failure) by 1, 2, 4, … rungs of 0.01 g until the outcome "
         f"changes, then bisecting to one rung. {_TRIM_TEXT[settings.fem.trim]} Bisection "
         "assumes one transition inside the bracket; the highest surviving rung below each FE "
-        f"critical SA is listed. FE runs: {len(runs)}, {cpu:.1f} min of CPU. FE failure modes: "
-        "yielding = a plastic hinge across a rim root; uplift = the slider escaped over a rim."
+        f"critical SA is listed. FE runs: {len(unique)}, {cpu:.1f} min of CPU. "
+        f"Kinematics: {settings.fem.describe()['FE kinematics']}. One search per limit state "
+        "(docs/theory/finite-elements.md, \"Limit states\"): hinge = the first rim root fully "
+        "plastic across its thickness; rupture = a rim's plastic strain, averaged over a gauge "
+        "of its thickness, past the steel's rupture strain; containment = the slider got past "
+        "a rim or overturned (failure under every limit state). The searches share their "
+        "runs. FE failure modes: yielding = the rim let go (hinge, rupture, or the slider "
+        "passed a bent rim); uplift = the slider climbed over a rim that held. A numerical "
+        "run is neither a failure nor a survival; it steers the bisection as a failure and "
+        "the answer is marked uncertain when it depends on it."
     )
     fig = plot_fem_vs_rigid(rows, settings.stop / G)
     report.figure(_save_figure(fig, figures / "fig4_fem_vs_rigid.png"),
-                  "FE against rigid critical SA per record (paper Fig. 4); marker: FE failure "
-                  "mode, colour: pressure")
+                  "FE against rigid critical SA per record (paper Fig. 4), one panel per FE "
+                  "limit state; marker: FE failure mode, colour: pressure; grey: ±20 %")
     plt.close("all")
     columns = {"record": "record", "pressure_mpa": "pressure [MPa]",
-               "rigid_sa_g": "rigid SA [g]", "fem_sa_g": "FE SA [g]",
+               "limit_state": "FE limit state", "rigid_sa_g": "rigid SA [g]",
+               "fem_sa_g": "FE SA [g]",
                "fem_over_rigid": "FE / rigid", "fem_failure_mode": "FE failure mode",
                "fem_failure_time_s": "FE failure time [s]",
                "survived_below_g": "FE survived at [g]", "fem_runs": "FE runs",
+               "numerical_runs": "numerical runs", "uncertain": "uncertain",
                "cpu_min": "CPU [min]"}
     report.table(rows, columns, caption="fem_comparison.csv")
-    run_columns = {"record": "record", "pressure_mpa": "pressure [MPa]", "run": "run",
+    run_columns = {"record": "record", "pressure_mpa": "pressure [MPa]",
+                   "limit_state": "limit state", "run": "run",
                    "sa_g": "SA [g]", "failed": "failed", "failure_mode": "mode",
-                   "failure_time_s": "failure time [s]",
+                   "failure_time_s": "failure time [s]", "hinge_s": "hinge at [s]",
+                   "rupture_s": "rupture at [s]", "containment_s": "containment lost at [s]",
                    "numerical_failure": "numerical failure", "start_s": "from [s]",
                    "end_s": "to [s]", "quiet": "quiet at end", "steps": "steps",
                    "max_plastic_strain": "max plastic strain",

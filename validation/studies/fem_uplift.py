@@ -1,19 +1,19 @@
 """Does the light bearing (10 MPa) of the FE model ever fail by uplift? A sweep of Ricker pulses.
 
 For each Ricker pulse (Tp, Ap, symmetric or antisymmetric) the script runs the rigid model and
-the FE model (coarse mesh, ``failure_criterion="escape"`` so the run goes on past the first rim
-hinge until the slider escapes) and prints the outcome of both, the FE hinge times, and the
-quantities that decide between tipping and rim yielding: the largest slider rotation and rise,
-and the largest rim force against the tipping force F_tip = W b/h (the rim couple that lifts the
-supported load W over the slider's edge) and the rim root's plastic shear capacities V_p = t
-f_y/√3 and V_u = t f_u/√3 (times the model depth).
+the FE model (coarse mesh, finite deformation, ``failure_criterion="containment"`` so the run
+goes on past the first rim hinge until the slider gets past a rim) and prints the outcome of
+both, the FE limit states and hinge times, and the quantities that decide between tipping and
+rim yielding: the largest slider rotation and rise, and the largest rim force against the
+tipping force F_tip = W b/h (the rim couple that lifts the supported load W over the slider's
+edge) and the rim root's plastic shear capacities V_p = t f_y/√3 and V_u = t f_u/√3 (times the
+model depth).
 
 Run: ``OMP_NUM_THREADS=1 python -m validation.studies.fem_uplift [Tp:Ap_g[:a] ...]`` (``:a`` for
-an antisymmetric pulse; ``--vertices`` makes the slider's vertices contact points;
-``--yield-scale K`` multiplies the steel's f_y and f_u by K and ``--rim-thickness T`` [m] sets
-the rims' thickness, variants of the assumed rims; the default sweep takes about 5 minutes of
-CPU). The findings are summarised in ``docs/fe-companion.md`` and the
-README.
+an antisymmetric pulse; ``--small`` for small strain; ``--vertices`` makes the slider's vertices
+contact points; ``--yield-scale K`` multiplies the steel's f_y and f_u by K and
+``--rim-thickness T`` [m] sets the rims' thickness, variants of the assumed rims). The findings
+are summarised in ``docs/fe-companion.md`` and the README.
 """
 
 from __future__ import annotations
@@ -32,6 +32,8 @@ from fem.dfp import out_of_plane_depth
 from fem.geometry import COARSE_MESH
 from rigid import DFPBearing, G, ricker_record
 
+#: ``--small`` runs the FE model at small strain (the study's first version).
+KINEMATICS = "small" if "--small" in sys.argv else "finite"
 DEFAULT = ["2:0.8", "1:2.0", "0.5:3.0", "3:0.8", "1:1.0", "2:1.5", "2:1.0:a", "1:2.0:a"]
 
 
@@ -42,7 +44,8 @@ def one(bearing, tp, ap_g, cache, kind="symmetric", vertices=False):
     v_imp = max((abs(i.velocity) for i in rb.impacts), default=0.0)
     c0 = time.process_time()
     res = fem.simulate(bearing, a, 0.005, mesh_options=COARSE_MESH, max_step=0.01,
-                       failure_criterion="escape", vertex_contact=vertices, cache_dir=cache)
+                       failure_criterion="containment", vertex_contact=vertices,
+                       kinematics=KINEMATICS, cache_dir=cache)
     cpu = time.process_time() - c0
     W = bearing.weight
     f_tip = W * bearing.slider_diameter / bearing.slider_height
@@ -53,7 +56,10 @@ def one(bearing, tp, ap_g, cache, kind="symmetric", vertices=False):
         k = int(np.searchsorted(res.time, first_hinge))
         at_hinge = (f" (rim force then {res.rim_force[: k + 1].max() / 1e6:.2f} MN, |θ| "
                     f"{np.abs(res.slider_rotation[: k + 1]).max():.3f} rad)")
-    fe = (f"{res.failure_mode} at {res.failure_time:.3f} s ({res.failure_detail})" if res.failed
+    states = ", ".join(f"{k} {'-' if v is None else f'{v:.3f} s'}"
+                       for k, v in res.limit_states.items())
+    fe = (f"{res.failure_mode} at {res.failure_time:.3f} s ({res.failure_detail}; {states})"
+          if res.failed
           else ("NUMERICAL: " + str(res.failure_detail)) if res.numerical_failure
           else "no failure")
     return (
