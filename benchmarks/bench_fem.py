@@ -11,8 +11,14 @@
    (median of ``--repeat`` runs after a short warm-up run), steps, Newton iterations, rejected
    steps and dofs.
 
-Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N]`` (about
-10 minutes on 2 cores with the default 3 repeats). ``--quick`` skips the 0.3 g run.
+3. Finite deformation against small strain on the same runs (``--kinematics``): the 0.3 g run
+   above (to the first hinge), and on the coarse mesh the 10 MPa bearing under a symmetric
+   Ricker pulse, Tp = 2 s, 0.4 g, run past the hinge to the loss of containment
+   (``failure_criterion="containment"``, 18 s), the regime where small strain is meaningless.
+
+Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N] [--kinematics]``
+(about 10 minutes on 2 cores with the default 3 repeats; ``--kinematics`` alone runs only part
+3, about 8 minutes). ``--quick`` skips the 0.3 g run.
 """
 
 from __future__ import annotations
@@ -70,12 +76,53 @@ def newton_iteration_cost(options: dict, cache: str, repeat: int = 7):
     return float(np.median(fast)), float(np.median(direct)), model.reduction.nreduced
 
 
-def run(amplitude_g: float, cache: str, duration=None):
-    """One run; returns the result, wall and CPU time [s]."""
+def run(amplitude_g: float, cache: str, duration=None, **options):
+    """One run on the default mesh; returns the result, wall and CPU time [s]."""
     _, a = ricker_record(amplitude_g * G, 2.0, dt=0.005, duration=10.0)
     t0, c0 = time.perf_counter(), time.process_time()
-    res = fem.simulate(DFPBearing(), a, 0.005, duration=duration, cache_dir=cache)
+    res = fem.simulate(DFPBearing(), a, 0.005, duration=duration, cache_dir=cache, **options)
     return res, time.perf_counter() - t0, time.process_time() - c0
+
+
+def post_hinge_run(cache: str, **options):
+    """The 10 MPa bearing past the hinge on the coarse mesh (module docstring, part 3)."""
+    _, a = ricker_record(0.4 * G, 2.0, dt=0.005, duration=18.0)
+    t0, c0 = time.perf_counter(), time.process_time()
+    res = fem.simulate(DFPBearing(pressure=10e6), a, 0.005, mesh_options=COARSE_MESH,
+                       max_step=0.01, failure_criterion="containment", cache_dir=cache,
+                       **options)
+    return res, time.perf_counter() - t0, time.process_time() - c0
+
+
+def report(label: str, runs) -> None:
+    """One line: medians of wall and CPU, the machine's load, the run's counts and outcome."""
+    res = runs[0][0]
+    wall = float(np.median([w for _, w, _ in runs]))
+    cpu = float(np.median([c for _, _, c in runs]))
+    print(
+        f"  {label}: wall {wall:.1f} s, CPU {cpu:.1f} s "
+        f"(runs: {', '.join(f'{w:.0f}/{c:.0f}' for _, w, c in runs)} s wall/CPU; "
+        f"load {os.getloadavg()[0]:.1f}) for {res.time[-1]:.2f} s simulated, {res.steps} "
+        f"steps, {res.newton_iterations} Newton iterations "
+        f"({cpu / max(res.newton_iterations, 1) * 1e3:.1f} ms CPU each incl. overhead), "
+        f"{res.rejected_steps} rejected steps, {res.dofs} dofs; "
+        + (f"failed by {res.failure_mode} at {res.failure_time:.3f} s" if res.failed
+           else "no failure")
+        + "; limit states " + ", ".join(f"{k} {'-' if v is None else f'{v:.3f} s'}"
+                                        for k, v in res.limit_states.items())
+    )
+
+
+def kinematics_comparison(cache: str, repeat: int) -> None:
+    """Part 3 of the module docstring."""
+    print(f"\nFinite deformation against small strain (median of {repeat}):")
+    post_hinge_run(cache, duration=0.1)
+    for kinematics in ("small", "finite"):
+        report(f"0.3 g, default mesh, {kinematics}",
+               [run(0.3, cache, kinematics=kinematics) for _ in range(repeat)])
+    for kinematics in ("small", "finite"):
+        report(f"10 MPa past the hinge, coarse mesh, {kinematics}",
+               [post_hinge_run(cache, kinematics=kinematics) for _ in range(repeat)])
 
 
 def main() -> None:
@@ -84,6 +131,9 @@ def main() -> None:
     print(f"python {platform.python_version()}, {platform.machine()}, numpy {np.__version__}, "
           f"{os.cpu_count()} cores, OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS')}")
     with tempfile.TemporaryDirectory() as cache:
+        if "--kinematics" in sys.argv:
+            kinematics_comparison(cache, repeat)
+            return
         print("\nCPU time per Newton iteration at the gravity equilibrium (median of 7):")
         print(f"{'mesh':45s} {'dofs':>7s} {'ms (solver)':>12s} {'ms (direct LU)':>15s}")
         for name, options in MESHES.items():
@@ -93,22 +143,8 @@ def main() -> None:
               f"(median of {repeat} after a 0.1 s warm-up run):")
         run(0.2, cache, duration=0.1)
         for amplitude in (0.2,) if quick else (0.2, 0.3):
-            load0 = os.getloadavg()[0]
-            runs = [run(amplitude, cache) for _ in range(repeat)]
-            res = runs[0][0]
-            wall = float(np.median([w for _, w, _ in runs]))
-            cpu = float(np.median([c for _, _, c in runs]))
-            print(
-                f"  Ap = {amplitude} g: wall {wall:.1f} s, CPU {cpu:.1f} s "
-                f"(runs: {', '.join(f'{w:.0f}/{c:.0f}' for _, w, c in runs)} s wall/CPU; "
-                f"load {load0:.1f} → {os.getloadavg()[0]:.1f}) for {res.time[-1]:.2f} s "
-                f"simulated, {res.steps} steps, {res.newton_iterations} Newton iterations "
-                f"({res.newton_iterations / max(res.steps, 1):.2f}/step, "
-                f"{cpu / max(res.newton_iterations, 1) * 1e3:.1f} ms CPU each incl. overhead), "
-                f"{res.rejected_steps} rejected steps, {res.dofs} dofs; "
-                + (f"failed by {res.failure_mode} at {res.failure_time:.3f} s"
-                   if res.failed else "no failure")
-            )
+            report(f"Ap = {amplitude} g", [run(amplitude, cache) for _ in range(repeat)])
+        kinematics_comparison(cache, repeat)
 
 
 if __name__ == "__main__":

@@ -1,25 +1,35 @@
-"""Pictures of the FE model's uplift failure for the README (docs/images/fem_light_uplift*).
+"""Pictures of the FE model's failures for the docs (docs/images/fem_*).
 
-The light bearing (10 MPa) under an antisymmetric Ricker pulse (Tp = 1 s, Ap = 1.2 g) on the
-default mesh, with elastic steel (``plasticity=False``: rims that cannot yield, as in the rigid
-model): the state at failure (PNG) and the impact that throws the slider out (GIF). The same
-pulse with the assumed steel rims ends in a rim-root hinge (tests/test_fem_failure.py).
+``uplift`` (default): the light bearing (10 MPa) under an antisymmetric Ricker pulse
+(Tp = 1 s, Ap = 1.2 g) on the default mesh, small strain, with elastic steel
+(``plasticity=False``: rims that cannot yield, as in the rigid model): the state at failure
+(``fem_light_uplift.png``) and the impact that throws the slider out (``.gif``). The same pulse
+with the assumed steel rims ends in a rim-root hinge (tests/test_fem_failure.py).
 
-Run (a few minutes of CPU)::
+``past-hinge``: the heavy bearing (60 MPa) under SUPERST/B-PTS_037 scaled to ``--sa`` [g] of
+SA(4.5 s), default mesh, finite deformation, run past the first hinge and the rupture to the
+loss of containment: the state then (``fem_heavy_past_hinge.png`` and ``_rim.png``, zoomed on
+the rim that let go) and the sequence from just before the hinge (``.gif``).
 
-    VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow python -m validation.studies.fem_figures
+Run (``uplift``: a few minutes of CPU; ``past-hinge``: about half an hour)::
+
+    VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow python -m validation.studies.fem_figures \
+        [uplift | past-hinge [--sa 0.27]]
 """
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import time
 
 import numpy as np
 
 import fem
+import rigid
 from fem.output import render_movie, render_result
 from rigid import DFPBearing, G, ricker_record
+from rigid.collapse.trimming import trimmed_window
 
 from . import IMAGES
 
@@ -27,14 +37,15 @@ OUT = IMAGES
 FRAMES = 40  # of the GIF, from the first rim contact to the failure
 
 
-def main() -> None:
+def uplift() -> None:
+    """The light bearing with elastic steel (module docstring)."""
     bearing = DFPBearing(pressure=10e6)
     _, a = ricker_record(1.2 * G, 1.0, "antisymmetric", dt=0.005, free=3.0)
     cpu = time.process_time()
     # energy_tolerance 1e-4: the default 1e-3 lets the slider's rattle between the airborne
     # plates reach an energy error of 12 % of the input on this mesh (1.8 % at 1e-4)
     res = fem.simulate(bearing, a, 0.005, plasticity=False, duration=3.0, snapshot_every=2,
-                       energy_tolerance=1e-4)
+                       energy_tolerance=1e-4, kinematics="small")
     cpu = time.process_time() - cpu
     print(res.summary())
     print(f"CPU {cpu:.0f} s; largest top-plate rise {res.top_plate_rise.max() * 1e3:.0f} mm; "
@@ -50,6 +61,50 @@ def main() -> None:
     impact = dataclasses.replace(res, snapshots=tuple(frames))
     render_movie(OUT / "fem_light_uplift.gif", impact, title="10 MPa, elastic steel", fps=8,
                  window=(1000, 625), clims=clims)
+
+
+def past_the_hinge(sa_g: float) -> None:
+    """The heavy bearing past the hinge to the loss of containment (module docstring)."""
+    bearing = DFPBearing(pressure=60e6)
+    motion = next(m for m in rigid.fema_p695("nearfield_pulse") if "B-PTS_037" in m.name)
+    record_sa = float(rigid.pseudo_acceleration(motion.acceleration, motion.dt, [4.5])[0])
+    a = motion.acceleration * sa_g * G / record_sa
+    window = trimmed_window(bearing, a, motion.dt, "end", lead=0.1)
+    t0 = window.start * motion.dt
+    cpu = time.process_time()
+    res = fem.simulate(bearing, a[window.start:], motion.dt, failure_criterion="containment",
+                       duration=(a.size - 1) * motion.dt - t0 + 5.0, snapshot_every=4)
+    cpu = time.process_time() - cpu
+    print(res.summary())
+    print(f"CPU {cpu:.0f} s; energy error {np.abs(res.energy['residual']).max() / 1e3:.1f} kJ "
+          f"of {res.energy['input'].max() / 1e6:.2f} MJ input")
+    states = ", ".join(f"{k} {t0 + v:.3f} s" for k, v in res.limit_states.items()
+                       if v is not None)
+    title = (f"60 MPa, B-PTS_037 at {sa_g:g} g: {states}; "
+             f"{res.failure_mode or 'no failure'}")
+    clims = {"von_mises": (0.0, bearing.ultimate_stress / 1e6), "eq_plastic_strain": (0.0, 1.0)}
+    render_result(OUT / "fem_heavy_past_hinge.png", res, title=title, clims=clims)
+    rim = min(res.hinge_times, key=res.hinge_times.get) if res.hinge_times else "bottom +x"
+    side = -1.0 if "-x" in rim else 1.0
+    z = bearing.rim_top if "top" not in rim else bearing.slider_height - bearing.rim_top
+    render_result(OUT / "fem_heavy_past_hinge_rim.png", res, title=title, clims=clims,
+                  focus=(side * bearing.rim_radius, z, 0.12))
+    hinge = res.limit_states["hinge"]
+    if hinge is None:
+        return
+    frames = [s for s in res.snapshots if s[0] >= hinge - 0.05]
+    frames = frames[:: max(1, len(frames) // FRAMES)]
+    movie = dataclasses.replace(res, snapshots=tuple(frames))
+    render_movie(OUT / "fem_heavy_past_hinge.gif", movie, title="60 MPa, finite deformation",
+                 fps=8, window=(1000, 625), clims=clims)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("case", nargs="?", choices=("uplift", "past-hinge"), default="uplift")
+    ap.add_argument("--sa", type=float, default=0.27, help="SA(4.5 s) [g] (past-hinge)")
+    args = ap.parse_args()
+    uplift() if args.case == "uplift" else past_the_hinge(args.sa)
 
 
 if __name__ == "__main__":
