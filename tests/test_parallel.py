@@ -89,6 +89,27 @@ def test_rerun_reuses_stored_results(tmp_path):
     assert again == first and len(calls) == 5 and store.count() == 5
 
 
+def test_progress_log_has_a_line_per_run_with_the_time_left(tmp_path):
+    """One line per task run (none for results read from the store), counting runs done and
+    queued; the estimate of the time left reaches zero with the queue."""
+    from rigid.tasks.runner import Progress
+
+    log = tmp_path / "progress.log"
+    store = ResultStore(tmp_path / "r.sqlite")
+    run_tasks(_tasks(3), store, workers=1, progress=False, log=log)
+    lines = log.read_text().splitlines()
+    assert len(lines) == 3
+    assert "1 run, 0 running, 2 queued; square" in lines[0]
+    assert "3 run, 0 running, 0 queued" in lines[-1] and "about 0 s left" in lines[-1]
+    run_tasks(_tasks(3), store, workers=1, progress=False, log=log)  # all stored: no line
+    assert len(log.read_text().splitlines()) == 3
+    # two workers, 60 s runs of one kind, four queued: 4 × 60 / 2 = 2 min, plus half the
+    # running one's mean over the workers (0.25 min)
+    tally = Progress(2)
+    line = tally.record("fem-run", 60.0, 1, [Task("k", "fem-run", _square, {})] * 4)
+    assert "about 2 min left" in line
+
+
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""
     store = ResultStore(tmp_path / "r.sqlite")

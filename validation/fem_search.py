@@ -262,7 +262,8 @@ class FESearches:
         scale = (self.start + j * self.step) / rigid_crit.record_sa
         kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
                   "dt": motion.dt, "scale": scale, **self.options}
-        key = task_key(self.kind, ("rigid", "collapse", "fem"), runner=self.runner_name,
+        key = task_key(self.kind, ("rigid", "collapse", "fem", "fem-run"),
+                       runner=self.runner_name,
                        **kwargs)
         return key, kwargs
 

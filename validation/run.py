@@ -154,7 +154,8 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
     tasks, index = _rigid_tasks(motions, settings, out)
     with ResultStore(out / "results.sqlite") as store:
         results = run_tasks(tasks, store, scheduler=scheduler, workers=workers,
-                            progress=progress, description="rigid critical SA")
+                            progress=progress, description="rigid critical SA",
+                            log=out / "progress.log")
     return _collect_rigid(tasks, index, results, settings)
 
 
@@ -195,7 +196,7 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
     with ResultStore(out / "results.sqlite") as store:
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
                             workers=workers, progress=progress,
-                            description="rigid ladders and FE runs")
+                            description="rigid ladders and FE runs", log=out / "progress.log")
     rigid_results = _collect_rigid(tasks, index, results, settings)
     fem: dict = {}
     if searches is not None:

@@ -35,6 +35,8 @@ MODEL_CODE = {
     "collapse": ("rigid/collapse",),
     # the FE companion and its geometry
     "fem": ("fem", "meshes"),
+    # one FE run of the validation: trimming and the end-of-run energy check
+    "fem-run": ("validation/fem_runs.py",),
 }
 
 

@@ -18,6 +18,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from .store import ResultStore
 
@@ -118,6 +119,42 @@ class _Dask:
             self.client.close()
 
 
+class Progress:
+    """Figures of a run of tasks for people watching it: runs done, running and queued, seconds
+    per run by kind, and the time left for the known queue (mean seconds of each queued task's
+    kind, over the workers); appended to a log file when one is given."""
+
+    def __init__(self, capacity: int, log=None):
+        self.capacity = max(1, int(capacity))
+        self.log = None if log is None else Path(log)
+        self.seconds: dict = {}
+        self.started = time.time()
+
+    def record(self, kind: str, seconds: float, running: int, queue) -> str:
+        """Enter a finished task; return (and log) the progress line."""
+        self.seconds.setdefault(kind, []).append(float(seconds))
+        done = sum(len(v) for v in self.seconds.values())
+        every = [x for v in self.seconds.values() for x in v]
+        mean = {k: sum(v) / len(v) for k, v in self.seconds.items()}
+        left = sum(mean.get(t.kind, sum(every) / len(every)) for t in queue)
+        left = (left + running * mean[kind] / 2) / self.capacity
+        line = (f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {done} run, {running} running, "
+                f"{len(queue)} queued; {kind} {seconds:.0f} s (mean {mean[kind]:.0f} s); "
+                f"about {_duration(left)} left of the known queue, "
+                f"{_duration(time.time() - self.started)} so far")
+        if self.log is not None:
+            with open(self.log, "a") as fh:
+                fh.write(line + "\n")
+        return line
+
+
+def _duration(seconds: float) -> str:
+    """``1 h 05 min``, ``12 min``, ``40 s``."""
+    if seconds >= 3600:
+        return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60):02d} min"
+    return f"{seconds / 60:.0f} min" if seconds >= 60 else f"{seconds:.0f} s"
+
+
 def run_tasks(
     tasks: Iterable[Task],
     store: ResultStore | None,
@@ -130,6 +167,7 @@ def run_tasks(
     unit: str = "run",
     start_method: str = "spawn",
     initializer: Callable | None = None,
+    log=None,
 ) -> dict:
     """Run the tasks whose results are not in ``store``; return every result by key.
 
@@ -161,6 +199,10 @@ def run_tasks(
         :mod:`multiprocessing` start method of the local pool (not ``"fork"``: Numba).
     initializer : callable, optional
         Run once in each local worker process as it starts (e.g. to load compiled code).
+    log : path-like, optional
+        Append one line per task run to this file: the time, the task's kind and seconds, runs
+        done, running and queued, and an estimate of the time left for the queue known then
+        (:class:`Progress`; the same figures follow the progress bar).
     """
     from tqdm.auto import tqdm
 
@@ -172,10 +214,14 @@ def run_tasks(
     bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
                disable=not progress, file=sys.stderr, dynamic_ncols=True)
     in_flight = {}
+    tally = Progress(executor.capacity, log)
 
-    def finish(task, result):
+    def finish(task, result, seconds=None):
         results[task.key] = result
         bar.update(task.size)
+        if seconds is not None:
+            line = tally.record(task.kind, seconds, len(in_flight), queue)
+            bar.set_postfix_str(line.split(": ", 1)[1], refresh=False)
         new = list(follow_up(task, result)) if follow_up else []
         queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
         bar.total += sum(t.size for t in new)
@@ -197,7 +243,7 @@ def run_tasks(
                 result, seconds = executor.result(future)
                 if store is not None:
                     store.put(task.key, task.kind, result, seconds)
-                finish(task, result)
+                finish(task, result, seconds)
     except BaseException:
         executor.close(cancel=True)
         raise
