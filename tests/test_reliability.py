@@ -371,3 +371,17 @@ def test_warnings_are_one_line(capsys, tmp_path):
     finally:
         module.simulate = old
     assert capsys.readouterr().err == "dfp simulate: warning: first line second line\n"
+
+
+def test_atomic_writes_keep_the_usual_permissions(tmp_path):
+    """A report file written through a temporary file has the permissions of a newly created
+    file (mkstemp's owner-only 0600 would hide reports from a group sharing the folder)."""
+    from rigid.tasks.files import atomic_write
+
+    umask = os.umask(0o022)
+    try:
+        with atomic_write(tmp_path / "report.csv") as fh:
+            fh.write("a,b\n")
+    finally:
+        os.umask(umask)
+    assert (tmp_path / "report.csv").stat().st_mode & 0o777 == 0o644

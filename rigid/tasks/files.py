@@ -16,11 +16,15 @@ __all__ = ["FolderBusyError", "FolderLock", "atomic_path", "atomic_write"]
 def atomic_path(path):
     """Yield a temporary path in the folder of ``path``; when the block ends without an
     exception, rename it over ``path`` (:func:`os.replace`, atomic on one file system), else
-    delete it. A failed write (a full disk, an interrupted run) leaves the previous file."""
+    delete it. A failed write (a full disk, an interrupted run) leaves the previous file. The
+    file gets the permissions of a newly created one (the umask's), not mkstemp's owner-only."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
     tmp = Path(tmp)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
     try:
         yield tmp
         os.replace(tmp, path)
