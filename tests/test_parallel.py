@@ -134,6 +134,20 @@ def _rigid_tasks(n):
             for s in np.linspace(1.0, 8.0, n)]
 
 
+def _thread_settings():
+    return {v: os.environ.get(v) for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
+
+
+def test_pool_workers_run_single_threaded_blas(tmp_path, monkeypatch):
+    """Worker processes get one BLAS thread each (threads on top of one process per core made an
+    FE run 4 times slower), unless the user set a thread count, which is kept."""
+    monkeypatch.delenv("OMP_NUM_THREADS", raising=False)
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "3")
+    task = Task("threads", "threads", _thread_settings, {})
+    (seen,) = run_tasks([task], None, workers=2, progress=False).values()
+    assert seen == {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "3"}
+
+
 def test_local_pool_and_dask_give_identical_results(tmp_path):
     """The same tasks in this process, in a spawned process pool and on a Dask LocalCluster."""
     distributed = pytest.importorskip("dask.distributed")

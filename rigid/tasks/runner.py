@@ -52,6 +52,10 @@ def default_workers() -> int:
         return os.cpu_count() or 1
 
 
+#: Environment variables that set the thread count of the numerical libraries in the workers.
+_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
 class _Local:
     """A process pool (``spawn`` by default: fork is unsafe with Numba threads); with one
     worker, tasks run in this process instead (simplest to debug and profile)."""
@@ -62,6 +66,11 @@ class _Local:
         self.capacity = workers
         self.pool = None
         if workers > 1:
+            # one single-threaded process per core: BLAS threads on top oversubscribe the
+            # cores (an FE run took 4 times as long; BENCHMARKS.md). The workers inherit the
+            # environment; a user's own setting is kept.
+            for var in _THREAD_VARIABLES:
+                os.environ.setdefault(var, "1")
             context = multiprocessing.get_context(start_method)
             self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context,
                                             initializer=initializer)

