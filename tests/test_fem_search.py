@@ -143,6 +143,72 @@ def test_fem_searches_run_as_stored_resumable_tasks(tmp_path):
     assert CALLS == []
 
 
+#: Scaled PGA [m/s²] at which the stand-in reaches each limit state.
+STATE_PGA = {"hinge": 2.0, "rupture": 2.5, "containment": 3.0}
+#: Scaled PGA band [m/s²] whose runs are numerical (set by the test).
+NUMERICAL_PGA = [math.inf, math.inf]
+
+
+def limit_state_runner(bearing, acceleration, dt, scale, *, criterion, **settings):
+    """Stand-in for fem_run with limit states: each is reached once the scaled PGA passes its
+    STATE_PGA; the run stops at ``criterion`` (later states not recorded); runs with a PGA in
+    the NUMERICAL_PGA band are numerical."""
+    CALLS.append(scale)
+    pga = scale * np.max(np.abs(acceleration))
+    if NUMERICAL_PGA[0] <= pga < NUMERICAL_PGA[1]:
+        return {"failed": False, "numerical_failure": True, "failure_mode": None,
+                "failure_time": None, "limit_states": dict.fromkeys(STATE_PGA),
+                "cpu_seconds": 0.0}
+    order = list(STATE_PGA)
+    times = {k: (1.0 + i if pga >= STATE_PGA[k] and i <= order.index(criterion) else None)
+             for i, k in enumerate(order)}
+    failed = times[criterion] is not None or times["containment"] is not None
+    return {"failed": failed, "numerical_failure": False,
+            "failure_mode": "yielding" if times["containment"] else None,
+            "failure_time": times[criterion], "limit_states": times, "cpu_seconds": 0.0}
+
+
+def test_searches_per_limit_state_share_their_runs(tmp_path):
+    """Three limit states: each search ends on its own brute-force threshold rung, every run
+    is made once however many searches ask for it (the runner is called once per distinct
+    rung, fewer times than the searches' probes), and the runs stop at the last limit state.
+    Then the rung just below the containment threshold is made numerical: the containment
+    search takes it as a failure (one rung lower) and must say that its answer is uncertain,
+    with one numerical run; the hinge search, far below, is untouched."""
+    targets = _targets()[:1]
+    _, motion, crit = targets[0]
+    pga = np.max(np.abs(motion.acceleration))
+    rungs = [STEP + j * STEP for j in range(round(STOP / STEP))]
+
+    def oracle(state):
+        return next(sa for sa in rungs if sa / crit.record_sa * pga >= STATE_PGA[state])
+
+    settings = FESettings(limit_states=("containment", "hinge", "rupture"))
+    assert settings.run_options()["criterion"] == "containment"
+    CALLS.clear()
+    found = run_fem_searches(targets, settings, ResultStore(tmp_path / "s.sqlite"),
+                             step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
+                             workers=1, progress=False)
+    assert [f.limit_state for f in found] == ["containment", "hinge", "rupture"]
+    for f in found:
+        assert f.sa == pytest.approx(oracle(f.limit_state), abs=1e-12), f.limit_state
+        assert not f.uncertain and f.numerical_runs == 0
+    assert len(CALLS) == len({round(x, 12) for x in CALLS}) < sum(f.runs for f in found)
+
+    below = (oracle("containment") - STEP) / crit.record_sa * pga  # that rung's PGA
+    NUMERICAL_PGA[:] = [below - 1e-9, below + 1e-9]
+    try:
+        found = run_fem_searches(targets, settings, ResultStore(tmp_path / "n.sqlite"),
+                                 step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
+                                 workers=1, progress=False)
+    finally:
+        NUMERICAL_PGA[:] = [math.inf, math.inf]
+    containment, hinge, _ = found
+    assert containment.numerical_runs == 1 and containment.uncertain
+    assert containment.sa == pytest.approx(oracle("containment") - STEP, abs=1e-12)
+    assert hinge.sa == pytest.approx(oracle("hinge"), abs=1e-12) and not hinge.uncertain
+
+
 def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):
     """The pipeline's single task run (rigid ladders, then each FE search as a follow-up of
     its record's rigid task): the rigid results equal run_rigid's, the FE search starts at
