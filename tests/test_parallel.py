@@ -215,8 +215,13 @@ def _sleep(seconds, flag):
     return {}
 
 
+# The child restores Python's SIGINT handler: a test suite started in the background of a
+# non-interactive shell (`pytest &`, some CI runners) inherits SIGINT ignored, and Python then
+# keeps ignoring it, so the Ctrl-C under test would never arrive.
 INTERRUPTED_RUN = textwrap.dedent("""
+    import signal
     import sys
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     sys.path.insert(0, {tests!r})
     from test_parallel import _sleep
     from rigid.tasks.runner import Task, run_tasks
