@@ -5,6 +5,8 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.material` — J2 plasticity with capped linear hardening: radial return and the
   consistent tangent at quadrature points (numpy only).
 * :mod:`fem.assembly` — plane-strain Q1 with B-bar, einsum assembly (scikit-fem).
+* :mod:`fem.hencky`, :mod:`fem.finite_element` — finite deformation: Hencky J2 plasticity
+  with the exponential map, mean-dilatation Q1, complex-step tangents.
 * :mod:`fem.newton` — Newton iterations for one quasi-static increment (scikit-fem).
 * :mod:`fem.geometry` — the bearing mesh from ``meshes/dfp.geo``, cached (gmsh, scikit-fem).
 * :mod:`fem.contact` — the rigid slider: its section and exact rotation, node-to-analytic-
@@ -14,21 +16,27 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.dfp` — the bearing as a plane-strain system (depth, masses, ties, loads).
 * :mod:`fem.linear` — Newton's linear solves: cached elastic LU + low-rank (Woodbury) update.
 * :mod:`fem.dynamics` — HHT-α with Newton, step cutback and an energy balance.
-* :mod:`fem.model` — :func:`simulate` and :class:`FEMResult`, failure detection.
+* :mod:`fem.model` — :func:`simulate` and :class:`FEMResult`.
+* :mod:`fem.limit_states` — hinge, rupture and containment, watched during a run.
+* :mod:`fem.pushover` — :func:`rim_pushover`, the static push of a rim.
 * :mod:`fem.output` — VTU files and pictures (meshio, pyvista).
 
 ``fem`` depends on ``rigid`` (for :class:`rigid.DFPBearing`), never the other way.
 """
 
+from .limit_states import LIMIT_STATES
 from .material import Material, MaterialState, ReturnMapResult, return_map, von_mises
 from .model import FEMResult, simulate
+from .pushover import rim_pushover
 
 __all__ = [
+    "LIMIT_STATES",
     "FEMResult",
     "Material",
     "MaterialState",
     "ReturnMapResult",
     "return_map",
+    "rim_pushover",
     "simulate",
     "von_mises",
 ]

@@ -113,6 +113,22 @@ def test_every_name_the_readme_uses_is_public():
             assert hasattr(rigid, name)
 
 
+def test_every_fem_name_the_readme_lists_is_public():
+    """The FE names of the README's API table are in ``fem.__all__`` (modules of the package
+    count as modules)."""
+    import importlib
+
+    import fem
+
+    names = set(re.findall(r"`fem\.([A-Za-z_]\w*)`", (ROOT / "README.md").read_text()))
+    assert {"simulate", "FEMResult", "rim_pushover", "LIMIT_STATES"} <= names
+    for name in sorted(names):
+        if name in fem.__all__:
+            assert hasattr(fem, name)
+        else:
+            importlib.import_module(f"fem.{name}")
+
+
 def test_a_wrong_statement_in_an_example_fails():
     """The checker itself: a value that differs from the document's, in the last digit kept,
     fails; the right one passes; a tuple is compared element by element."""
