@@ -11,10 +11,10 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["LIMIT_STATES", "RIMS", "LimitStates"]
+from rigid.limit_states import LIMIT_STATES
 
-#: The limit states, in the order a rim usually reaches them.
-LIMIT_STATES = ("hinge", "rupture", "containment")
+__all__ = ["LIMIT_STATES", "RIMS", "LimitStates", "rim_gauge_average"]
+
 RIMS = ("bottom -x", "bottom +x", "top -x", "top +x")
 
 
@@ -46,6 +46,19 @@ def averaging_operator(points: np.ndarray, weights: np.ndarray, radius: float) -
     d = np.hypot(points[0][:, None] - points[0][None, :], points[1][:, None] - points[1][None, :])
     w = np.where(d <= radius, weights[None, :], 0.0)
     return sp.csr_matrix(w / w.sum(axis=1, keepdims=True))
+
+
+def rim_gauge_average(fe, mesh, rim: str, gauge: float) -> tuple[np.ndarray, sp.csr_matrix]:
+    """The elements of one rim (``"bottom +x"`` …; the mesh's ``<plate>_rim`` subdomain on that
+    side) and the operator that averages a quadrature-point field of them over a disc of
+    diameter ``gauge`` [m] (Eq. F52): ``operator @ field[elements].ravel()``. ``fe`` is the
+    element of the mesh (:class:`fem.assembly.PlaneStrainQ1`), for its points and weights."""
+    plate, side = rim.split()
+    elems = mesh.subdomains[f"{plate}_rim"]
+    centroid_x = mesh.p[0, mesh.t[:, elems]].mean(axis=0)
+    elems = elems[np.sign(centroid_x) == (1.0 if side == "+x" else -1.0)]
+    points = np.asarray(fe.basis.global_coordinates())[:, elems].reshape(2, -1)
+    return elems, averaging_operator(points, fe.dx[elems].ravel(), 0.5 * gauge)
 
 
 class LimitStates:
@@ -80,18 +93,9 @@ class LimitStates:
         self.vertices = self.system.shape.vertices
         self.mesh = mesh
         # rupture: rim points and their averaging operators (reference configuration)
-        fe = self.system.fe
-        x = np.asarray(fe.basis.global_coordinates())  # (2, nel, nqp)
-        self.rim_points, self.rim_average = [], []
-        for name in RIMS:
-            plate, side = name.split()
-            elems = mesh.subdomains[f"{plate}_rim"]
-            centroid_x = mesh.p[0, mesh.t[:, elems]].mean(axis=0)
-            elems = elems[np.sign(centroid_x) == (1.0 if side == "+x" else -1.0)]
-            self.rim_points.append(elems)
-            pts = x[:, elems].reshape(2, -1)
-            self.rim_average.append(averaging_operator(pts, fe.dx[elems].ravel(),
-                                                       0.5 * bearing.rim_thickness))
+        self.rim_points, self.rim_average = zip(*(
+            rim_gauge_average(self.system.fe, mesh, name, bearing.rim_thickness)
+            for name in RIMS), strict=True)
         self.times: dict = dict.fromkeys(LIMIT_STATES)
         self.hinge_times: dict = {}
         self.mode: str | None = None

@@ -19,7 +19,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from fem.limit_states import LIMIT_STATES
+from rigid.limit_states import LIMIT_STATES
 from rigid.limits import (
     MAX_RECORD_ACCELERATION,
     MAX_SA_STOP,

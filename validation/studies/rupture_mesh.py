@@ -15,9 +15,7 @@ import argparse
 import time
 from pathlib import Path
 
-import numpy as np
-
-from fem.limit_states import averaging_operator
+from fem.limit_states import rim_gauge_average
 from fem.pushover import rim_pushover
 from rigid import DFPBearing
 from rigid.collapse.comparison import write_csv
@@ -34,12 +32,8 @@ def regularised_peak(push, bearing: DFPBearing) -> float:
     from fem.assembly import PlaneStrainQ1
 
     mesh = push.plate.mesh
-    fe = PlaneStrainQ1(mesh)
-    fe_points = np.asarray(fe.basis.global_coordinates())
-    elems = mesh.subdomains["bottom_rim"]
-    elems = elems[mesh.p[0, mesh.t[:, elems]].mean(axis=0) > 0]
-    operator = averaging_operator(fe_points[:, elems].reshape(2, -1), fe.dx[elems].ravel(),
-                                  0.5 * bearing.rim_thickness)
+    elems, operator = rim_gauge_average(PlaneStrainQ1(mesh), mesh, "bottom +x",
+                                        bearing.rim_thickness)
     return float((operator @ push.final_plastic_strain[elems].ravel()).max())
 
 
