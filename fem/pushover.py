@@ -59,6 +59,9 @@ class Pushover:
         At the first step with the whole root row plastic (the hinge, Eq. F36).
     max_plastic_strain : ndarray [-]
         Largest equivalent plastic strain in the plate at each step.
+    averaged_plastic_strain : ndarray [-]
+        Largest plastic strain of the pushed rim averaged over the rupture gauge (Eq. F52, a
+        disc of the rim thickness) at each step: what the rupture criterion (Eq. F51) reads.
     kinematics : {"small", "finite"}
     dofs : int
     plate : BottomPlate
@@ -74,6 +77,7 @@ class Pushover:
     hinge_displacement: float | None
     hinge_force: float | None
     max_plastic_strain: np.ndarray
+    averaged_plastic_strain: np.ndarray
     kinematics: str
     dofs: int
     plate: BottomPlate
@@ -147,6 +151,7 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     from .assembly import PlaneStrainQ1
     from .finite_element import FiniteStrainQ1
     from .hencky import FiniteState
+    from .limit_states import rim_gauge_average
     from .material import Material, MaterialState
     from .newton import solve_increment
 
@@ -166,7 +171,8 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     n_support = 2 * plate.support.size
     state = (FiniteState if kinematics == "finite" else MaterialState).virgin(fe.point_shape)
     u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
-    out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0]}
+    rim, average = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
+    out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0]}
     hinge = None
     delta, h = 0.0, delta_end / steps
     while delta < delta_end * (1 - 1e-12):
@@ -189,6 +195,7 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         out["f"].append(force)
         out["frac"].append(frac)
         out["p"].append(float(p.max()))
+        out["avg"].append(float((average @ p[rim].ravel()).max()))
         if hinge is None and frac >= 1.0:
             hinge = (delta, force)
     return Pushover(
@@ -196,6 +203,7 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         yielded_fraction=np.array(out["frac"]),
         hinge_displacement=None if hinge is None else hinge[0],
         hinge_force=None if hinge is None else hinge[1],
-        max_plastic_strain=np.array(out["p"]), kinematics=kinematics, dofs=fe.ndofs,
+        max_plastic_strain=np.array(out["p"]),
+        averaged_plastic_strain=np.array(out["avg"]), kinematics=kinematics, dofs=fe.ndofs,
         plate=plate, final_displacement=u, final_plastic_strain=state.eq_plastic_strain,
     )

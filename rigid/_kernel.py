@@ -39,12 +39,19 @@ from numba import njit
 P_R, P_HALF_B, P_HS, P_HALF_HE, P_RIN, P_TR, P_ZTOP = 0, 1, 2, 3, 4, 5, 6
 P_K, P_XI, P_MU, P_MU_RIM, P_Y, P_MS, P_JS, P_M, P_G = 7, 8, 9, 10, 11, 12, 13, 14, 15
 P_MEFF_BOT, P_MEFF_TOP, P_DMAX, P_MERGE, P_DFAR, P_DNEAR = 16, 17, 18, 19, 20, 21
-N_PARAMS = 22
+# yielding rims (docs/theory/rigid-body.md, "Yielding rims"): flag, rim height, elastic
+# stiffness, lever of the rim's bending, plastic sets at the hinge and at rupture, criterion
+P_YIELDING, P_HR, P_KEL, P_LEVER, P_UP_HINGE, P_UP_RUPTURE, P_CRITERION = (
+    22, 23, 24, 25, 26, 27, 28)
+N_PARAMS = 29
+#: failure criteria (P_CRITERION): the limit state that ends a run with yielding rims
+CRIT_CONTAINMENT, CRIT_HINGE, CRIT_RUPTURE = 0, 1, 2
 
 # history channels ----------------------------------------------------------------------------
 H_XT, H_ZT, H_XS, H_ZS, H_TH, H_VT, H_SHEAR, H_RIMF = 0, 1, 2, 3, 4, 5, 6, 7
 H_EIN, H_EKIN, H_EPOT, H_EFRIC, H_EIMP = 8, 9, 10, 11, 12
-N_CHANNELS = 13
+H_EPLAS, H_SET = 13, 14  # rims' plastic work [J]; largest permanent set of a rim [m]
+N_CHANNELS = 15
 
 # summary entries -----------------------------------------------------------------------------
 S_STATUS, S_FAIL_TIME, S_FAIL_CODE, S_N_EVENTS, S_MAX_UPLIFT, S_MAX_ROT = 0, 1, 2, 3, 4, 5
@@ -60,11 +67,17 @@ S_MAX_PEN, S_MAX_RIMF, S_EIN, S_EKIN, S_EPOT, S_EFRIC, S_EIMP, S_N_REC, S_STEPS 
     14,
 )
 S_TAKEN = 15  # steps actually taken, fine and coarse
-N_SUMMARY = 16
+# yielding rims: first hinge, first rupture and loss of containment [s] (−1: not reached),
+# plastic work [J], then the permanent set of each rim [m]
+S_T_HINGE, S_T_RUPTURE, S_T_CONTAINMENT, S_EPLAS, S_SET = 16, 17, 18, 19, 20
+N_SUMMARY = 24
 
 # status and failure codes --------------------------------------------------------------------
 STATUS_OK, STATUS_FAILED, STATUS_NUMERICAL = 0, 1, 2
 FAIL_BOTTOM_RIM, FAIL_TOP_RIM, FAIL_CENTROID, FAIL_OVERTURN = 1, 2, 3, 4
+# yielding rims: a hinge or a rupture (the criterion asked for), a vertex got through a bent
+# bottom or top rim (Eq. R63)
+FAIL_HINGE, FAIL_RUPTURE, FAIL_THROUGH_BOTTOM, FAIL_THROUGH_TOP = 5, 6, 7, 8
 NUM_NAN, NUM_PENETRATION, NUM_ENERGY, NUM_JUMP = 10, 11, 12, 13
 #: energy residual, relative to the input energy, beyond which the run counts as unstable
 #: (Eq. R46)
@@ -82,7 +95,8 @@ A_EEL, A_CSUM, A_PFRIC, A_BFX, A_KSUM, A_C = 0, 1, 2, 3, 4, 5
 C_INDEX = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2), (0, 3), (0, 4), (1, 3), (1, 4),
            (2, 3), (2, 4), (3, 3), (3, 4), (4, 4))
 A_K = A_C + 15  # then the contact stiffness matrix K (same layout), far from the rims
-N_ACC = A_K + 15
+A_PLAS = A_K + 15  # then the rims' plastic work over the step [J]
+N_ACC = A_PLAS + 1
 N_RIMS = 4
 EVENT_FIELDS = 5  # time, rim, top-plate velocity, peak rim force, duration
 
@@ -146,7 +160,8 @@ def _add_gtg(acc, base, c, g0, g1, g2, top):
 
 
 @njit(cache=True, inline="always")
-def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, stiff):
+def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, stiff,
+           cscale=1.0):
     """Contact force of one slot on the slider at point (px, pz) with normal (nx, nz).
 
     ``top`` is True when the other body is the top plate (moving with v[3], v[4]), False for
@@ -154,8 +169,8 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
     ``gen``; into ``acc`` the elastic energy, the friction power, the bottom plate's Fx and,
     on approach, the damper c·GᵀG (implicit in the kicks); with ``stiff``, the contact's
     tangent stiffness (normal 1.5k√δ, and μF_n/Y along the tangent while sticking) into the
-    stiffness matrix. Returns the elastic normal force. Eqs. R25–R28 of
-    docs/theory/rigid-body.md.
+    stiffness matrix. ``cscale`` multiplies the damper (a yielding rim's series compliance,
+    Eq. R60). Returns the elastic normal force. Eqs. R25–R28 of docs/theory/rigid-body.md.
     """
     rx = px - q[0]
     rz = pz - q[1]
@@ -167,7 +182,7 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
     sd = math.sqrt(delta)
     f_el = p[P_K] * delta * sd  # Eq. R15 (Hertz): paper Eq. 2, the elastic part of Eq. 1
     if ddot > 0.0:  # approach: Eqs. R16–R17 (Jankowski damper), paper Eq. 1 with c from Eq. 3
-        c = damper_coefficient(sd, p[P_K], p[P_XI], meff)
+        c = damper_coefficient(sd, p[P_K], p[P_XI], meff) * cscale
         _add_gtg(acc, A_C, c, nx, nz, rx * nz - rz * nx, top)
         acc[A_CSUM] += c
     # Coulomb friction on the elastic normal force (the damper's part is transient):
@@ -196,15 +211,19 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
 
 
 @njit(cache=True)
-def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
+def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff, rim_set, law, buf, count):
     """Generalized contact forces at configuration q with velocities v.
 
     Advances the friction states Z over a slip of v_t·h (h = 0 leaves them). Fills:
     gen[5] slider Fx, Fz, moment and top-plate Fx, Fz [N, N·m]; acc as in :func:`_apply`;
     rimf[4] total normal force on each rim [N]; sep[2] the smaller vertex separation from the
     bottom and from the top dish [m]. With ``stiff`` the contacts' tangent stiffness matrix
-    goes into acc[A_K:] (see :func:`_kick`). Returns the largest penetration [m].
+    goes into acc[A_K:] (see :func:`_kick`). With yielding rims (p[P_YIELDING]) the rim
+    contacts go through :func:`_yielding_rims`, which advances the rims' permanent sets
+    ``rim_set`` when h > 0 (backbone ``law``; ``buf`` and ``count`` its work space).
+    Returns the largest penetration [m].
     """
+    yielding = p[P_YIELDING] != 0.0
     for i in range(5):
         gen[i] = 0.0
     for i in range(N_ACC):
@@ -260,6 +279,8 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
                 off_top = True
             else:
                 off_bottom = True
+        if yielding:  # the rims are done below
+            continue
         # vertex against the rim it faces (slot 4 + j, Eq. R23): inner face or rim top/bottom
         # face
         side = 1.0 if xl >= 0.0 else -1.0
@@ -283,6 +304,9 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
         sep[0] = 1e9
     if off_top:
         sep[1] = 1e9
+    if yielding:
+        return max(dmax, _yielding_rims(p, q, v, Z, h, gen, acc, rimf, vert, stiff, rim_set,
+                                        law, buf, count))
     # rim corners against the slider's section (slots 8–11, Eq. R24)
     for r in range(N_RIMS):
         is_top = r >= 2
@@ -321,6 +345,260 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff):
         rimf[r] += _apply(8 + r, delta, nx, nz, kx, kz, is_top, meff, p[P_MU_RIM], p, q, v, h,
                           Z, gen, acc, stiff)
     return dmax
+
+
+# yielding rims (docs/theory/rigid-body.md, "Yielding rims", Eqs. R55–R63) -------------------
+#: fields of a rim contact in the work buffer: slot, overlap, normal (x, z), point (x, z),
+#: share: the part of the normal across the rim, the overlap a unit outward deflection of
+#: the rim closes (Eq. R58)
+B_SLOT, B_GAP, B_NX, B_NZ, B_PX, B_PZ, B_SHARE = 0, 1, 2, 3, 4, 5, 6
+B_FIELDS = 7
+#: contacts one rim can carry at once: two vertices and its corner
+B_CONTACTS = 3
+
+
+@njit(cache=True)
+def backbone_force(law, up):
+    """Rim force on the backbone at plastic set ``up`` [m]: linear between the rows of
+    ``law`` (plastic set [m], force [N]), flat past the last row (Eq. R56)."""
+    n = law.shape[0]
+    if up <= law[0, 0]:
+        return law[0, 1]
+    for i in range(1, n):
+        if up <= law[i, 0]:
+            return law[i - 1, 1] + (law[i, 1] - law[i - 1, 1]) * (up - law[i - 1, 0]) / (
+                law[i, 0] - law[i - 1, 0])
+    return law[n - 1, 1]
+
+
+@njit(cache=True)
+def backbone_slope(law, up):
+    """dF/du_p of the backbone at ``up`` [N/m] (0 past its last row)."""
+    n = law.shape[0]
+    for i in range(1, n):
+        if up < law[i, 0]:
+            return (law[i, 1] - law[i - 1, 1]) / (law[i, 0] - law[i - 1, 0])
+    return 0.0
+
+
+@njit(cache=True)
+def _rim_load(buf, n, k, w):
+    """Force across a rim that has deflected by w [m], Σ k·(g_i − w·s_i)^1.5·s_i over its
+    contacts (overlap g_i, share s_i), and its derivative in w (Eq. R58)."""
+    f = 0.0
+    df = 0.0
+    for i in range(n):
+        s = buf[i, B_SHARE]
+        d = buf[i, B_GAP] - w * s
+        if s > 0.0 and d > 0.0:
+            sd = math.sqrt(d)
+            f += k * d * sd * s
+            df -= 1.5 * k * sd * s * s
+    return f, df
+
+
+@njit(cache=True)
+def rim_response(buf, n, k, k_el, law, up0):
+    """Deflection w [m], force F [N] and plastic increment Δu_p [m] of one rim pressed by the
+    ``n`` contacts in ``buf`` (overlaps measured against the rim at its set ``up0``), each a
+    Hertz spring in series with the rim: elastic k_el up to the backbone force, then plastic
+    flow along the backbone ``law`` (Eqs. R57–R59). Both equations are monotone in the
+    unknown, so their roots are unique: Newton from w = 0 for the elastic trial (the residual
+    is convex and decreasing, so the iterates rise to the root without overshoot), bisection
+    for the plastic increment (the backbone is piecewise linear)."""
+    w = 0.0
+    for _ in range(100):  # elastic trial, Eq. R57
+        f, df = _rim_load(buf, n, k, w)
+        step = (f - k_el * w) / (k_el - df)
+        w += step
+        if step <= 1e-14 + 1e-12 * w:
+            break
+    force = k_el * w
+    if force <= backbone_force(law, up0):
+        return w, force, 0.0
+    # plastic increment, Eq. R59: r(Δ) = load at w = F_b/k_el + Δ, minus F_b(u0 + Δ), is
+    # decreasing; r(0) > 0 and r(hi) < 0 at the largest overlap. Regula falsi with the
+    # Illinois modification keeps the bracket and converges superlinearly
+    lo, r_lo = 0.0, force - backbone_force(law, up0)
+    hi = 0.0
+    for i in range(n):
+        if buf[i, B_SHARE] > 0.0:
+            hi = max(hi, buf[i, B_GAP] / buf[i, B_SHARE])
+    r_hi = -backbone_force(law, up0 + hi)
+    side = 0
+    d = hi
+    for _ in range(100):
+        d = (lo * r_hi - hi * r_lo) / (r_hi - r_lo)
+        fb = backbone_force(law, up0 + d)
+        f, _ = _rim_load(buf, n, k, fb / k_el + d)
+        r = f - fb
+        if r > 0.0:
+            lo, r_lo = d, r
+            if side == 1:
+                r_hi *= 0.5
+            side = 1
+        else:
+            hi, r_hi = d, r
+            if side == -1:
+                r_lo *= 0.5
+            side = -1
+        if hi - lo <= 1e-15 + 1e-12 * hi or abs(r) <= 1e-12 * fb:
+            break
+    fb = backbone_force(law, up0 + d)
+    return fb / k_el + d, fb, d
+
+
+@njit(cache=True)
+def rim_geometry(p, q, r, up):
+    """A rim bent outward by its plastic set ``up`` [m] (Eq. R55): its inner face moved
+    outward by u_p, and lowered to the height h_r·cos φ it keeps when it turns by φ about its
+    root, sin φ = u_p/L (L = p[P_LEVER], at most a right angle). Returns the face's x, the
+    root's z and the face's height towards the free end (upward for bottom rims, downward
+    for top rims) [m]. Rims 0–3 as RIM_NAMES; top rims relative to the top plate."""
+    side = 1.0 if r % 2 == 1 else -1.0
+    sphi = min(1.0, up / p[P_LEVER])
+    height = p[P_HR] * math.sqrt(1.0 - sphi * sphi)
+    if r >= 2:
+        return q[3] + side * (p[P_RIN] + up), q[4] + p[P_HS] - p[P_ZTOP] + p[P_HR], height
+    return side * (p[P_RIN] + up), p[P_ZTOP] - p[P_HR], height
+
+
+@njit(cache=True)
+def _yielding_rims(p, q, v, Z, h, gen, acc, rimf, vert, stiff, rim_set, law, buf, count):
+    """Contact forces of the four yielding rims (slots 4–11 as for rigid rims; Eqs. R55–R61):
+    gathers each rim's contacts against its bent geometry, solves the rim in series with them
+    (:func:`rim_response`), applies the Hertz forces that remain with the damper scaled by
+    the series compliance, adds the rims' elastic energy to acc[A_EEL] and, when h > 0,
+    advances their sets and puts the plastic work in acc[A_PLAS]. Returns the largest
+    overlap [m]."""
+    dmax = 0.0
+    xs, zs, th = q[0], q[1], q[2]
+    # no rim within reach of the slider (the sets only move faces outward): nothing to do
+    reach = math.sqrt(p[P_HALF_B] ** 2 + 0.25 * p[P_HS] ** 2)
+    if abs(xs) + reach < p[P_RIN] and abs(xs - q[3]) + reach < p[P_RIN]:
+        for slot in range(4, N_SLOTS):
+            Z[slot] = 0.0
+        return 0.0
+    for r in range(N_RIMS):
+        count[r] = 0
+    c = math.cos(th)
+    s = math.sin(th)
+    tr = p[P_TR]
+    for j in range(4):  # vertices against the rim they face (slots 4–7, Eq. R23 bent)
+        is_top = j >= 2
+        sz = -1.0 if is_top else 1.0
+        px, pz = vert[j, 0], vert[j, 1]
+        side = 1.0 if px - (q[3] if is_top else 0.0) >= 0.0 else -1.0
+        r = (2 if is_top else 0) + (1 if side > 0 else 0)
+        xf, z0, height = rim_geometry(p, q, r, rim_set[r])
+        u = side * (px - xf)  # depth past the inner face
+        w = height - sz * (pz - z0)  # depth below the free end
+        if u > 0.0 and u < tr and w > 0.0:
+            b = buf[r, count[r]]
+            b[B_SLOT], b[B_PX], b[B_PZ] = 4 + j, px, pz
+            if u <= w:  # the inner face: across the rim
+                b[B_GAP], b[B_NX], b[B_NZ], b[B_SHARE] = u, -side, 0.0, 1.0
+            else:  # the free end: along the rim
+                b[B_GAP], b[B_NX], b[B_NZ], b[B_SHARE] = w, 0.0, sz, 0.0
+            count[r] += 1
+        else:
+            Z[4 + j] = 0.0
+    hb = p[P_HALF_B]
+    hs = p[P_HS]
+    R = p[P_R]
+    for r in range(N_RIMS):  # corners against the slider's section (slots 8–11, Eq. R24)
+        side = 1.0 if r % 2 == 1 else -1.0
+        xf, z0, height = rim_geometry(p, q, r, rim_set[r])
+        kx, kz = xf, z0 + (-height if r >= 2 else height)
+        dx = kx - xs
+        dz = kz - zs
+        qx = c * dx + s * dz
+        qz = -s * dx + c * dz
+        dside = hb - abs(qx)
+        db = R - math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
+        dt_ = R - math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
+        if dside <= 0.0 or abs(qz) > hs or db <= 0.0 or dt_ <= 0.0:
+            Z[8 + r] = 0.0
+            continue
+        if dside <= db and dside <= dt_:
+            delta, nbx, nbz = dside, (1.0 if qx > 0 else -1.0), 0.0
+        elif db <= dt_:
+            ln = math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
+            delta, nbx, nbz = db, qx / ln, (qz + hs / 2 - R) / ln
+        else:
+            ln = math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
+            delta, nbx, nbz = dt_, qx / ln, (qz - hs / 2 + R) / ln
+        nx = -(c * nbx - s * nbz)
+        nz = -(s * nbx + c * nbz)
+        b = buf[r, count[r]]
+        b[B_SLOT], b[B_GAP], b[B_NX], b[B_NZ], b[B_PX], b[B_PZ] = 8 + r, delta, nx, nz, kx, kz
+        b[B_SHARE] = max(0.0, -side * nx)
+        count[r] += 1
+    k = p[P_K]
+    k_el = p[P_KEL]
+    for r in range(N_RIMS):
+        n = count[r]
+        if n == 0:
+            continue
+        is_top = r >= 2
+        up0 = rim_set[r]
+        w, force, d = rim_response(buf[r], n, k, k_el, law, up0)
+        k_rim = k_el  # the rim's tangent in series with each contact (Eq. R60)
+        if d > 0.0:
+            slope = backbone_slope(law, up0 + d)
+            k_rim = k_el * slope / (k_el + slope) if slope > 0.0 else 0.0
+        meff = p[P_MEFF_TOP] if is_top else p[P_MEFF_BOT]
+        sz = -1.0 if is_top else 1.0
+        end_load = 0.0  # the contact forces along the rim, against its free end [N]
+        for i in range(n):
+            b = buf[r, i]
+            slot = int(b[B_SLOT])
+            dmax = max(dmax, b[B_GAP])
+            delta = b[B_GAP] - w * b[B_SHARE]
+            if delta <= 0.0:
+                Z[slot] = 0.0
+                continue
+            kh = 1.5 * k * math.sqrt(delta) * b[B_SHARE] ** 2
+            scale = k_rim / (k_rim + kh) if kh > 0.0 else 1.0
+            f = _apply(slot, delta, b[B_NX], b[B_NZ], b[B_PX], b[B_PZ], is_top, meff,
+                       p[P_MU_RIM], p, q, v, h, Z, gen, acc, stiff, scale * scale)
+            rimf[r] += f
+            end_load += f * sz * b[B_NZ]
+        acc[A_EEL] += 0.5 * force * force / k_el
+        if h > 0.0 and d > 0.0:
+            # plastic work: the force across the rim over the set, and the load on its end
+            # over the drop of the end that the set brings (Eq. R61)
+            drop = rim_geometry(p, q, r, up0)[2] - rim_geometry(p, q, r, up0 + d)[2]
+            acc[A_PLAS] += 0.5 * (backbone_force(law, up0) + force) * d + end_load * drop
+            rim_set[r] = up0 + d
+    return dmax
+
+
+@njit(cache=True)
+def _containment_yielding(p, q, vert, rim_set):
+    """Loss of containment with bent rims (0: none), Eq. R63: a vertex beyond the bent inner
+    corner of the rim it faces, horizontally outside and vertically past it — over the rim
+    (FAIL_BOTTOM_RIM/FAIL_TOP_RIM) if it is also past the corner's unbent height, through it
+    (FAIL_THROUGH_BOTTOM/TOP) if not; the centroid past an unbent inner face; overturning."""
+    for j in range(4):
+        is_top = j >= 2
+        px, pz = vert[j, 0], vert[j, 1]
+        side = 1.0 if px - (q[3] if is_top else 0.0) >= 0.0 else -1.0
+        r = (2 if is_top else 0) + (1 if side > 0 else 0)
+        kx, z0, height = rim_geometry(p, q, r, rim_set[r])
+        kz = z0 + (-height if is_top else height)
+        if side * (px - kx) <= 0.0:
+            continue
+        if not is_top and pz > kz:
+            return FAIL_BOTTOM_RIM if pz > p[P_ZTOP] else FAIL_THROUGH_BOTTOM
+        if is_top and pz < kz:
+            unbent = q[4] + p[P_HS] - p[P_ZTOP]
+            return FAIL_TOP_RIM if pz < unbent else FAIL_THROUGH_TOP
+    if abs(q[0]) > p[P_RIN] or abs(q[0] - q[3]) > p[P_RIN]:
+        return FAIL_CENTROID
+    if abs(q[2]) > 0.25 * math.pi:
+        return FAIL_OVERTURN
+    return 0
 
 
 @njit(cache=True)
@@ -506,7 +784,7 @@ def _step_level(p, q, v, vert, dmax, rim_contact, h_medium, h_coarse):
 
 @njit(cache=True)
 def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, stop_at_failure,
-              hist, events, summary):
+              hist, events, summary, law):
     """Advance the model over ``n_steps`` fine steps of size h.
 
     ``ag_in`` is sampled every ``n_sub`` fine steps and interpolated linearly in between
@@ -519,7 +797,8 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     rim can be reached any more (Eq. R41). Energies: Eqs. R46–R51; impacts and uplift:
     Eqs. R52–R54. Histories are written at the input's sampling into ``hist``
     (n_rec × N_CHANNELS), rim impact events into ``events`` (max_events × EVENT_FIELDS);
-    ``summary`` (N_SUMMARY) gets the rest.
+    ``summary`` (N_SUMMARY) gets the rest. ``law``: the yielding rims' backbone (rows of
+    plastic set [m], force [N]; unused with rigid rims).
     """
     q = q0.copy()
     v = np.zeros(5)
@@ -532,12 +811,22 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     in_contact = np.zeros(N_RIMS, dtype=np.bool_)
     last_contact = np.full(N_RIMS, -1e9)
     open_event = np.full(N_RIMS, -1)
+    rim_set = np.zeros(N_RIMS)
+    buf = np.zeros((N_RIMS, B_CONTACTS, B_FIELDS))
+    count = np.zeros(N_RIMS, dtype=np.int64)
+    yielding = p[P_YIELDING] != 0.0
+    criterion = int(p[P_CRITERION])
+    t_hinge = -1.0
+    t_rupture = -1.0
+    t_lost = -1.0
+    lost = 0
+    e_plas = 0.0
     n_in = ag_in.shape[0]
     input_steps = (n_in - 1) * n_sub
     max_events = events.shape[0]
     ms, js, mt, g = p[P_MS], p[P_JS], p[P_M], p[P_G]
 
-    dmax = forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert, False)
+    dmax = forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert, False, rim_set, law, buf, count)
     e_el0 = acc[A_EEL]
     zs0, zt0 = q0[1], q0[4]
     e_in = 0.0
@@ -578,11 +867,13 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             hist[n_rec, H_EPOT] = e_pot
             hist[n_rec, H_EFRIC] = e_fric
             hist[n_rec, H_EIMP] = e_imp
+            hist[n_rec, H_EPLAS] = e_plas
+            hist[n_rec, H_SET] = max(max(rim_set[0], rim_set[1]), max(rim_set[2], rim_set[3]))
             n_rec += 1
             # an explicit scheme past its stability limit creates energy: report, not hide
             # (Eq. R46)
             e_scale = max(e_scale, abs(e_in))
-            residual = e_in - (e_kin + e_pot + e_fric + e_imp)
+            residual = e_in - (e_kin + e_pot + e_fric + e_imp + e_plas)
             if status == STATUS_OK and abs(residual) > ENERGY_TOLERANCE * e_scale:
                 status, fail_code, fail_time = STATUS_NUMERICAL, NUM_ENERGY, t
             if step >= input_steps and e_kin + e_grav < quiet_energy and fail_code == 0:
@@ -600,7 +891,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
         if not implicit:  # plain velocity Verlet: drop a coarse step's stiffness
             acc[A_KSUM] = 0.0
         elif acc[A_KSUM] == 0.0:  # first coarse step: its first kick needs the stiffness too
-            forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert, True)
+            forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert, True, rim_set, law, buf, count)
         # ground acceleration at the end of the step, linear between input samples
         k_in = (step + m) // n_sub
         frac = ((step + m) % n_sub) / n_sub
@@ -615,8 +906,10 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             q[i] += hs * v[i]
         # input work of the inertial loads over the step, half-step velocities (Eq. R47)
         e_in -= 0.5 * (ag_old + ag_new) * (ms * v[0] + mt * v[3]) * hs
-        dmax = forces(p, q, v, Z, hs, gen, acc, rimf, sep, vert, implicit)
+        dmax = forces(p, q, v, Z, hs, gen, acc, rimf, sep, vert, implicit, rim_set, law, buf,
+                      count)
         e_fric += acc[A_PFRIC] * hs
+        e_plas += acc[A_PLAS]
         shear = acc[A_BFX]
         # kick
         e_imp += _kick(p, v, gen, ag_new, acc, 0.5 * hs)
@@ -667,12 +960,37 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             status, fail_code, fail_time = STATUS_NUMERICAL, NUM_PENETRATION, t
         elif _step_jump(p, v, hs) > 0.25 * p[P_DMAX]:
             status, fail_code, fail_time = STATUS_NUMERICAL, NUM_JUMP, t
-        elif fail_code == 0:
+        elif fail_code == 0 and not yielding:
             code = _failure(p, q, vert)
             if code != 0:
                 fail_code, fail_time = code, t
                 if stop_at_failure:
                     status = STATUS_FAILED
+        elif yielding:  # the limit states, recorded as far as the run goes (Eqs. R62–R63)
+            most = max(max(rim_set[0], rim_set[1]), max(rim_set[2], rim_set[3]))
+            if t_hinge < 0.0 and most >= p[P_UP_HINGE]:
+                t_hinge = t
+            if t_rupture < 0.0 and most >= p[P_UP_RUPTURE]:
+                t_rupture = t
+            beyond = abs(q[2]) > 0.25 * math.pi  # a vertex past an unbent face, or tipped
+            for j in range(4):
+                beyond = beyond or abs(vert[j, 0] - (q[3] if j >= 2 else 0.0)) > p[P_RIN]
+            if t_lost < 0.0 and beyond:  # containment can only be lost then (Eq. R63)
+                lost = _containment_yielding(p, q, vert, rim_set)
+                if lost != 0:
+                    t_lost = t
+            if fail_code == 0:
+                code = 0
+                if t_lost >= 0.0:  # failure whatever the criterion
+                    code = lost
+                elif criterion == CRIT_HINGE and t_hinge >= 0.0:
+                    code = FAIL_HINGE
+                elif criterion == CRIT_RUPTURE and t_rupture >= 0.0:
+                    code = FAIL_RUPTURE
+                if code != 0:
+                    fail_code, fail_time = code, t
+                    if stop_at_failure:
+                        status = STATUS_FAILED
     if status == STATUS_OK and fail_code != 0:
         status = STATUS_FAILED
     e_kin = 0.5 * (ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2 + mt * (v[3] ** 2 + v[4] ** 2))
@@ -692,3 +1010,9 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     summary[S_N_REC] = n_rec
     summary[S_STEPS] = step
     summary[S_TAKEN] = taken
+    summary[S_T_HINGE] = t_hinge
+    summary[S_T_RUPTURE] = t_rupture
+    summary[S_T_CONTAINMENT] = t_lost
+    summary[S_EPLAS] = e_plas
+    for r in range(N_RIMS):
+        summary[S_SET + r] = rim_set[r]

@@ -33,7 +33,16 @@ _FAILURE_DETAIL = {
     K.NUM_PENETRATION: "a contact penetration exceeded the rim thickness",
     K.NUM_ENERGY: "the energy balance failed to close within 5 % of the input energy",
     K.NUM_JUMP: "a body moved further in one step than a quarter of the rim thickness",
+    K.FAIL_HINGE: "a rim's root section became fully plastic (a hinge)",
+    K.FAIL_RUPTURE: "a rim reached its rupture set",
+    K.FAIL_THROUGH_BOTTOM: "a bottom vertex got through a bent bottom rim",
+    K.FAIL_THROUGH_TOP: "a top vertex got through a bent top rim",
 }
+_PHYSICAL = (K.FAIL_BOTTOM_RIM, K.FAIL_TOP_RIM, K.FAIL_CENTROID, K.FAIL_OVERTURN, K.FAIL_HINGE,
+             K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP)
+_YIELDING = (K.FAIL_HINGE, K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP)
+#: rim models of :func:`simulate`
+RIMS = ("rigid", "yielding")
 
 
 class NumericalInstabilityError(RuntimeError):
@@ -68,9 +77,10 @@ class Impact:
 class EnergyBalance:
     """Energy histories [J] at the result's sampling; all start at zero.
 
-    ``potential`` is gravity plus the contacts' elastic energy; ``friction`` and ``impact`` are
-    the energies dissipated by friction and by the contact dampers; ``input`` is the work of the
-    inertial loads −m·a_g on the bodies' motions relative to the ground.
+    ``potential`` is gravity plus the contacts' (and yielding rims') elastic energy;
+    ``friction``, ``impact`` and ``plastic`` are the energies dissipated by friction, by the
+    contact dampers and by the yielding rims' plastic flow (zero with rigid rims); ``input`` is
+    the work of the inertial loads −m·a_g on the bodies' motions relative to the ground.
     """
 
     input: np.ndarray
@@ -78,11 +88,14 @@ class EnergyBalance:
     potential: np.ndarray
     friction: np.ndarray
     impact: np.ndarray
+    plastic: np.ndarray
 
     @property
     def residual(self) -> np.ndarray:
-        """input − (kinetic + potential + friction + impact) [J]; zero for exact integration."""
-        return self.input - (self.kinetic + self.potential + self.friction + self.impact)
+        """input − (kinetic + potential + friction + impact + plastic) [J]; zero for exact
+        integration."""
+        return self.input - (self.kinetic + self.potential + self.friction + self.impact
+                             + self.plastic)
 
     @property
     def relative_error(self) -> float:
@@ -115,10 +128,14 @@ class SimulationResult:
     energy : EnergyBalance
     impacts : tuple of Impact
     failed : bool
-        The slider escaped over a rim or overturned (physical failure).
+        Physical failure under ``failure_criterion``: the slider escaped over or through a
+        rim or overturned (lost containment, failure under any criterion), or, with yielding
+        rims, a rim reached the hinge or rupture asked for.
     failure_time : float or None [s]
-    failure_mode : {"uplift", None}
-        The rigid model can only fail by uplift (it cannot yield).
+    failure_mode : {"uplift", "yielding", None}
+        "yielding" if a rim hinged or ruptured (the criterion) or let the slider through, or
+        the centroid passed a rim after a hinge; "uplift" if the slider climbed over a rim or
+        overturned (docs/theory/rigid-body.md, Eq. R63). Rigid rims fail by uplift only.
     failure_detail : str or None
     numerical_failure : bool
         The integration went unstable; the response after ``failure_time`` is missing.
@@ -133,6 +150,16 @@ class SimulationResult:
     steps_taken : int
         Integration steps actually taken, fine and coarse (the cost of the run).
     bearing : DFPBearing
+    rims : {"rigid", "yielding"}
+    failure_criterion : {"hinge", "rupture", "containment"}
+    limit_states : dict
+        Limit state → time [s] it was first reached, or None, as far as the run went
+        (``"hinge"`` and ``"rupture"`` only with yielding rims; Eq. R62).
+    rim_sets : tuple of float [m]
+        Permanent outward set of each rim at the end (order of ``RIM_NAMES``; zeros with rigid
+        rims).
+    rim_set : ndarray [m]
+        History of the largest permanent rim set.
     """
 
     time: np.ndarray
@@ -159,6 +186,11 @@ class SimulationResult:
     steps: int
     steps_taken: int
     bearing: DFPBearing
+    rims: str
+    failure_criterion: str
+    limit_states: dict
+    rim_sets: tuple
+    rim_set: np.ndarray
 
     @property
     def max_impact_velocity(self) -> float:
@@ -352,6 +384,9 @@ def simulate(
     on_instability: str = "raise",
     coarse_factor: int | None = None,
     stop_when_quiet: bool = False,
+    rims: str = "rigid",
+    failure_criterion: str | None = None,
+    rim_law=None,
 ) -> SimulationResult:
     """Run the rigid-body DFP model on a horizontal ground acceleration.
 
@@ -394,6 +429,18 @@ def simulate(
         R40–R41). Impacts
         and failure are then exact, but histories and maximum displacement end early. For
         sweeps (impact spectra, critical SA).
+    rims : {"rigid", "yielding"}
+        Rims that cannot yield (the paper's model, default), or elastoplastic rims in series
+        with the contacts, bending outward by a permanent set (docs/theory/rigid-body.md,
+        "Yielding rims", Eqs. R55–R63).
+    failure_criterion : {"hinge", "rupture", "containment"}, optional
+        The limit state that defines ``failed`` and ends the run (with ``stop_at_failure``):
+        a rim's hinge, its rupture, or the loss of containment, which is failure under any
+        criterion. Default "hinge" with yielding rims (as :func:`fem.simulate`); rigid rims
+        have only "containment".
+    rim_law : rigid.rims.RimLaw, optional
+        The yielding rims' law; default :func:`rigid.rims.rim_law` of the bearing (pushes of
+        the FE companion's rim, cached).
 
     Returns
     -------
@@ -414,9 +461,13 @@ def simulate(
         raise ValueError(f"max_impacts must be a positive integer, got {max_impacts!r}")
     if impact_merge_time < 0:
         raise ValueError(f"impact_merge_time must be ≥ 0 s, got {impact_merge_time!r}")
+    criterion = _check_rims(rims, failure_criterion)
 
     p = kernel_parameters(bearing)
     p[K.P_MERGE] = impact_merge_time
+    law = np.zeros((1, 2))
+    if rims == "yielding":
+        law = _set_rim_parameters(p, bearing, criterion, rim_law)
     n_samples = math.floor(duration / dt + 1e-9)
     hist = np.empty((n_samples + 1, K.N_CHANNELS))
     events = np.zeros((int(max_impacts), K.EVENT_FIELDS))
@@ -429,7 +480,7 @@ def simulate(
         coarse = coarse_factor or max(medium, math.floor(FAR_STEP / 2**attempt / h + 1e-9))
         medium = min(medium, coarse)
         K.integrate(p, static_state(bearing), a, n_sub, h, n_samples * n_sub, medium, int(coarse),
-                    quiet_energy, bool(stop_at_failure), hist, events, summary)
+                    quiet_energy, bool(stop_at_failure), hist, events, summary, law)
         if int(summary[K.S_STATUS]) != K.STATUS_NUMERICAL:
             break
 
@@ -442,12 +493,12 @@ def simulate(
         if on_instability != "report":
             raise NumericalInstabilityError(message)
         warnings.warn(message, RuntimeWarning, stacklevel=2)
-    physical = (not numerical) and code in (
-        K.FAIL_BOTTOM_RIM,
-        K.FAIL_TOP_RIM,
-        K.FAIL_CENTROID,
-        K.FAIL_OVERTURN,
-    )
+    physical = (not numerical) and code in _PHYSICAL
+    limit_states = _limit_states(summary, rims, physical, fail_time)
+    mode = None
+    if physical:
+        mode = "yielding" if code in _YIELDING or (
+            code == K.FAIL_CENTROID and limit_states["hinge"] is not None) else "uplift"
     n_rec = int(summary[K.S_N_REC])
     hs = hist[:n_rec:record_every]
     n_events = int(summary[K.S_N_EVENTS])
@@ -465,13 +516,12 @@ def simulate(
         velocity=hs[:, K.H_VT].copy(),
         base_shear=hs[:, K.H_SHEAR].copy(),
         rim_force=hs[:, K.H_RIMF].copy(),
-        energy=EnergyBalance(
-            *(hs[:, c].copy() for c in (K.H_EIN, K.H_EKIN, K.H_EPOT, K.H_EFRIC, K.H_EIMP))
-        ),
+        energy=EnergyBalance(*(hs[:, c].copy() for c in (
+            K.H_EIN, K.H_EKIN, K.H_EPOT, K.H_EFRIC, K.H_EIMP, K.H_EPLAS))),
         impacts=impacts,
         failed=physical,
         failure_time=fail_time if (physical or numerical) else None,
-        failure_mode="uplift" if physical else None,
+        failure_mode=mode,
         failure_detail=_FAILURE_DETAIL.get(code) if code else None,
         numerical_failure=numerical,
         max_uplift=float(summary[K.S_MAX_UPLIFT]),
@@ -482,4 +532,52 @@ def simulate(
         steps=int(summary[K.S_STEPS]),
         steps_taken=int(summary[K.S_TAKEN]),
         bearing=bearing,
+        rims=rims,
+        failure_criterion=criterion,
+        limit_states=limit_states,
+        rim_sets=tuple(float(x) for x in summary[K.S_SET:K.S_SET + K.N_RIMS]),
+        rim_set=hs[:, K.H_SET].copy(),
     )
+
+
+def _check_rims(rims: str, failure_criterion: str | None) -> str:
+    """The failure criterion of a run (ValueError for an unknown rim model or criterion)."""
+    from .limit_states import LIMIT_STATES
+
+    if rims not in RIMS:
+        raise ValueError(f"rims must be one of {', '.join(RIMS)}, got {rims!r}")
+    if failure_criterion is None:
+        return "hinge" if rims == "yielding" else "containment"
+    if failure_criterion not in LIMIT_STATES:
+        raise ValueError(f"failure_criterion must be one of {', '.join(LIMIT_STATES)}, got "
+                         f"{failure_criterion!r}")
+    if rims == "rigid" and failure_criterion != "containment":
+        raise ValueError(f"rims='rigid' cannot yield, so failure_criterion "
+                         f"{failure_criterion!r} cannot be reached; use rims='yielding'")
+    return failure_criterion
+
+
+def _set_rim_parameters(p, bearing: DFPBearing, criterion: str, law) -> np.ndarray:
+    """Put the yielding rims' parameters into the kernel's vector; their backbone table."""
+    from .rims import rim_law
+
+    law = rim_law(bearing) if law is None else law
+    p[K.P_YIELDING] = 1.0
+    p[K.P_HR] = bearing.rim_height
+    p[K.P_KEL] = law.stiffness
+    p[K.P_LEVER] = law.lever
+    p[K.P_UP_HINGE] = law.hinge_set
+    p[K.P_UP_RUPTURE] = law.rupture_set
+    p[K.P_CRITERION] = {"containment": K.CRIT_CONTAINMENT, "hinge": K.CRIT_HINGE,
+                        "rupture": K.CRIT_RUPTURE}[criterion]
+    return law.table
+
+
+def _limit_states(summary, rims: str, physical: bool, fail_time: float) -> dict:
+    """Limit state → time [s] first reached, or None (Eq. R62)."""
+    if rims == "rigid":
+        return {"hinge": None, "rupture": None,
+                "containment": fail_time if physical else None}
+    return {name: (None if summary[i] < 0 else float(summary[i]))
+            for name, i in (("hinge", K.S_T_HINGE), ("rupture", K.S_T_RUPTURE),
+                            ("containment", K.S_T_CONTAINMENT))}

@@ -231,6 +231,41 @@ def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):
     assert again[10e6].actual == found[10e6].actual
 
 
+def test_validation_with_yielding_rims_starts_each_search_at_its_own_ladder(tmp_path,
+                                                                           monkeypatch):
+    """With yielding rims in the settings each record also gets a yielding-rim ladder per FE
+    limit state (the same answer as rigid.critical_sa run alone), and the FE search of that
+    limit state starts at its rung instead of the rigid rims' one, ending on the same
+    threshold rung. The rim law is a stand-in (a linear backbone) so the test needs no FE
+    push."""
+    import rigid.rims
+    from validation.run import Settings, run_validation
+
+    law = rigid.rims.RimLaw(
+        stiffness=6e9, plastic_set=np.array([0.0, 0.02]), force=np.array([1.5e6, 2.5e6]),
+        first_yield_force=1.5e6, hinge_displacement=5e-4, hinge_force=1.8e6, hinge_set=2e-4,
+        rupture_displacement=1e-2, rupture_set=9e-3, lever=0.02625,
+        push_displacement=np.zeros(2), push_force=np.zeros(2))
+    monkeypatch.setattr(rigid.rims, "rim_law", lambda bearing, **_: law)
+    _, a = rigid.ricker_record(0.2 * G, 2.5, "antisymmetric", dt=0.01, free=8.0)
+    motion = rigid.GroundMotion(name="pulse", dt=0.01, acceleration=a)
+    settings = Settings(pressures=(60e6,), criteria=(4,), stop=1.2 * G, rims=("rigid", "yielding"),
+                        fem=FESettings(limit_states=("hinge", "rupture")))
+    found, fem = run_validation([motion], settings, tmp_path, workers=1, progress=False,
+                                fem_runner=threshold_runner)
+    results = found[60e6]
+    assert set(results.yielding) == {"hinge", "rupture"}
+    for search in fem[60e6]:
+        (ladder,) = results.yielding[search.limit_state]
+        alone = rigid.critical_sa(DFPBearing(pressure=60e6), motion, settings.step,
+                                  stop=settings.stop, search="fast", rims="yielding",
+                                  failure_criterion=search.limit_state, cache=False)
+        assert ladder.sa == alone.sa is not None and search.yielding_sa == ladder.sa
+        assert search.probes[0]["sa"] == pytest.approx(ladder.sa)
+        oracle = _oracle(motion, SimpleNamespace(record_sa=ladder.record_sa), stop=1.2 * G)
+        assert search.sa == pytest.approx(oracle, abs=1e-12)
+
+
 # --------------------------------------------------------------- trimming
 
 

@@ -166,7 +166,7 @@ def simulate(args) -> int:
           f" period {bearing.period:.2f} s)")
     print(title)
     try:
-        result = run(bearing, acceleration, dt)
+        result = run(bearing, acceleration, dt, **_rim_options(args))
     except NumericalInstabilityError as exc:
         raise _no_answer("the rigid model's integration stayed unstable; the run gives no "
                          "verdict", exc) from None
@@ -210,11 +210,12 @@ def critical(args) -> int:
 
     bearing = _bearing(args)
     motion = _record(args)
+    rims = _rim_options(args)
     actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
-                         after_failure=args.after_failure)
+                         after_failure=args.after_failure, **rims)
     print(actual.summary())
     predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
-                                    stop=args.stop * G, search=args.search)
+                                    stop=args.stop * G, search=args.search, **rims)
     print(predicted.summary())
     uncertain = [what for what, r in (("critical SA", actual), ("prediction", predicted))
                  if r.uncertain]
@@ -273,6 +274,8 @@ def validate(args) -> int:
         stop=args.stop * G, search=args.search, fem=fem,
         fem_pressures=tuple(p * 1e6 for p in fem_pressures),
         fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
+        rims=tuple(dict.fromkeys(["rigid", *args.rims])),
+        yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
     )
     print(f"validation: {len(motions)} records ({label}), pressures "
           f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
@@ -319,6 +322,23 @@ _STOP = _number(float, 0, MAX_SA_STOP / G, " g", "every studied record fails bel
 def _bearing_args(p):
     p.add_argument("--pressure", type=_PRESSURE, default=10.0,
                    help="slider pressure [MPa], 1-200 (paper: 60 heavy, 10 light; default 10)")
+
+
+def _rim_args(p):
+    p.add_argument("--rims", choices=("rigid", "yielding"), default="rigid",
+                   help="rim model: rigid (the paper's, default) or yielding (elastoplastic "
+                   "rims derived from the FE companion's rim push)")
+    p.add_argument("--limit-state", choices=LIMIT_STATES,
+                   help="what counts as failure with yielding rims: a rim's hinge (default), "
+                   "its rupture, or the loss of containment (rigid rims: containment only)")
+
+
+def _rim_options(args) -> dict:
+    """The rim model and failure criterion of :func:`rigid.simulate` from the arguments."""
+    if args.rims == "rigid" and args.limit_state not in (None, "containment"):
+        raise CommandError(f"--limit-state {args.limit_state} needs --rims yielding (rigid "
+                           "rims cannot yield)")
+    return {"rims": args.rims, "failure_criterion": args.limit_state}
 
 
 def _record_args(p, required):
@@ -369,6 +389,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--scale", type=_positive(float), default=1.0,
                        help="scale factor of the record (default 1; the scaled peak must stay "
                        "within 10 g)")
+        _rim_args(p)
         p.add_argument("--out", default="dfp-simulate", help="output folder")
         p.set_defaults(func=simulate)
 
@@ -391,6 +412,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="rungs run above the first failure, to show resurrections (default 10)")
     p.add_argument("--criterion", type=int, choices=(1, 2, 3, 4), default=4,
                    help="pulse selection criterion of the prediction (default 4)")
+    _rim_args(p)
     p.set_defaults(func=critical)
 
     p = sub.add_parser("validate", help="critical SA and its prediction over a record set",
@@ -431,6 +453,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--limit-state", nargs="+", choices=LIMIT_STATES, default=["hinge"],
                    help="FE limit states searched, each its own FE critical SA sharing the "
                    "same runs (default hinge; docs/theory/finite-elements.md, 'Limit states')")
+    p.add_argument("--rims", nargs="+", choices=("rigid", "yielding"),
+                   default=["rigid", "yielding"],
+                   help="rim models of the rigid model's ladders (default both; rigid rims, "
+                   "the paper's model, always run); with yielding rims one ladder per limit "
+                   "state, where the FE searches then start")
     p.add_argument("--fem-kinematics", choices=("finite", "small"), default="finite",
                    help="FE kinematics: finite deformation (default) or small strain")
     p.add_argument("--out", default="dfp-validation", help="output folder")

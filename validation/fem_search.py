@@ -161,7 +161,11 @@ class FECritical:
     name : str
     pressure : float [Pa]
     rigid_sa : float or None [m/s²]
-        The rigid model's critical SA (the search's start).
+        The rigid model's critical SA with rigid rims (the search's start without
+        ``yielding_sa``).
+    yielding_sa : float or None [m/s²]
+        The rigid model's critical SA with yielding rims under the same limit state (the
+        search's start when known); None when not run or no failure.
     sa : float or None [m/s²]
         FE critical SA: the failing rung found; None if the top rung survived.
     survived_below : float or None [m/s²]
@@ -187,6 +191,7 @@ class FECritical:
     failure_time: float | None = None
     probes: list = field(default_factory=list)
     limit_state: str = "hinge"
+    yielding_sa: float | None = None
 
     @property
     def runs(self) -> int:
@@ -238,15 +243,18 @@ class FESearches:
         with at least ``failed``, ``failure_mode``, ``failure_time``, ``cpu_seconds`` (and
         ``limit_states``, ``numerical_failure`` when it has them); :func:`fem_run`, or a
         stand-in (tests).
+    models : tuple of str
+        The models whose code keys the stored runs (:data:`rigid.tasks.cache.MODEL_CODE`);
+        default those :func:`fem_run` runs.
     """
 
     kind = "fem-run"
 
     def __init__(self, settings: FESettings, *, step: float, start: float, stop: float,
-                 runner=fem_run):
+                 runner=fem_run, models=("rigid", "collapse", "fem", "fem-run")):
         self.step, self.start = float(step), float(start)
         self.highest = math.floor((stop - start) / step + 1e-9)
-        self.runner = runner
+        self.runner, self.models = runner, tuple(models)
         # a stand-in runner (tests) is keyed by its name; fem_run by the code of the models
         self.runner_name = (None if runner is fem_run
                             else f"{runner.__module__}.{runner.__qualname__}")
@@ -262,9 +270,7 @@ class FESearches:
         scale = (self.start + j * self.step) / rigid_crit.record_sa
         kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
                   "dt": motion.dt, "scale": scale, **self.options}
-        key = task_key(self.kind, ("rigid", "collapse", "fem", "fem-run"),
-                       runner=self.runner_name,
-                       **kwargs)
+        key = task_key(self.kind, self.models, runner=self.runner_name, **kwargs)
         return key, kwargs
 
     def _advance(self, k) -> list:
@@ -296,17 +302,22 @@ class FESearches:
         self.found[k].probes.append({"sa": sa, **result, "scale": sa / record_sa,
                                      "failed": failed})
 
-    def add(self, bearing: DFPBearing, motion, rigid_crit) -> tuple:
-        """Start a record's searches, one per limit state (``rigid_crit``: the rigid model's
-        CriticalSA, whose rung starts them); their first tasks."""
+    def add(self, bearing: DFPBearing, motion, rigid_crit, yielding=None) -> tuple:
+        """Start a record's searches, one per limit state; their first tasks. Each starts at
+        the rung of the rigid model's CriticalSA with yielding rims under its limit state
+        (``yielding``: limit state → CriticalSA), when given and failing, else at that of
+        ``rigid_crit`` (rigid rims)."""
         self.targets.append((bearing, motion, rigid_crit))
-        j0 = (self.highest if rigid_crit.sa is None
-              else round((rigid_crit.sa - self.start) / self.step))
+        yielding = yielding or {}
         tasks = []
         for state in self.limit_states:
+            y = yielding.get(state)
+            sa = y.sa if y is not None and y.sa is not None else rigid_crit.sa
+            j0 = self.highest if sa is None else round((sa - self.start) / self.step)
             self.searches.append(BracketBisect(j0, 0, self.highest))
             self.found.append(FECritical(motion.name, bearing.pressure, rigid_crit.sa,
-                                         limit_state=state))
+                                         limit_state=state,
+                                         yielding_sa=None if y is None else y.sa))
             tasks += self._advance(len(self.searches) - 1)
         return tuple(tasks)
 

@@ -37,6 +37,12 @@ class Settings:
     fem_records : int, optional
         FE runs for this many records only, the shortest ones (FE cost grows with the
         simulated time); default all.
+    rims : tuple of str
+        Rim models of the rigid ladders: "rigid" (the paper's, always run: its predictions
+        and tables) and "yielding" (:func:`rigid.simulate`'s yielding rims: one more ladder
+        per limit state of ``yielding_states``; with FE runs, each FE search starts there).
+    yielding_states : tuple of str
+        Limit states of the yielding-rim ladders; default the FE limit states (or the hinge).
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -47,13 +53,26 @@ class Settings:
     fem: FESettings | None = None
     fem_pressures: tuple | None = None
     fem_records: int | None = None
+    rims: tuple = ("rigid",)
+    yielding_states: tuple | None = None
+
+    def ladder_states(self) -> tuple:
+        """Limit states of the yielding-rim ladders (none without yielding rims)."""
+        if "yielding" not in self.rims:
+            return ()
+        if self.yielding_states is not None:
+            return tuple(self.yielding_states)
+        return tuple(self.fem.limit_states) if self.fem is not None else ("hinge",)
 
     def describe(self) -> dict:
         """The settings for the report: ``{"name [unit]": value}`` (no unit for text)."""
         out = {"pressures [MPa]": [p / 1e6 for p in self.pressures],
                "pulse criteria, paper §4.1 [-]": list(self.criteria),
                "SA step [g]": self.step / G,
-               "SA stop [g]": self.stop / G, "ladder search": self.search}
+               "SA stop [g]": self.stop / G, "ladder search": self.search,
+               "rigid model's rims": ", ".join(self.rims)
+               + (f" (yielding: {', '.join(self.ladder_states())})"
+                  if self.ladder_states() else "")}
         if self.fem is None:
             return out | {"FE critical SA": "not run"}
         pressures = self.fem_pressures or self.pressures
@@ -74,8 +93,9 @@ class Settings:
 
 
 def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, step: float,
-                stop: float, search: str, cache: str | None) -> dict:
-    """Actual and predicted critical SA of one record (runs in a worker).
+                stop: float, search: str, cache: str | None, yielding_states=()) -> dict:
+    """Actual and predicted critical SA of one record, and the critical SA with yielding rims
+    under each of ``yielding_states`` (runs in a worker).
 
     Parameters are plain data (the bearing as ``dataclasses.asdict``; the record's samples
     [m/s²] and dt [s]) so that the task pickles cheaply and hashes exactly.
@@ -89,8 +109,12 @@ def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, ste
         str(c): predict_critical_sa(b, motion, criterion=c, step=step, stop=stop, search=search)
         for c in criteria
     }
+    yielding = {state: dataclasses.asdict(critical_sa(
+        b, motion, step, stop=stop, search=search, cache=cache, rims="yielding",
+        failure_criterion=state)) for state in yielding_states}
     return {"actual": dataclasses.asdict(actual),
-            "predictions": {c: dataclasses.asdict(p) for c, p in predictions.items()}}
+            "predictions": {c: dataclasses.asdict(p) for c, p in predictions.items()},
+            "yielding": yielding}
 
 
 def _critical_from_json(d):
@@ -114,6 +138,7 @@ class PressureResults:
     bearing: DFPBearing
     actual: list = field(default_factory=list)
     predictions: dict = field(default_factory=dict)  # criterion → list of PredictedSA
+    yielding: dict = field(default_factory=dict)  # limit state → list of CriticalSA
 
 
 def _rigid_tasks(motions, settings: Settings, out: Path):
@@ -126,6 +151,8 @@ def _rigid_tasks(motions, settings: Settings, out: Path):
             kwargs = {"bearing": bearing, "name": m.name, "dt": m.dt,
                       "acceleration": m.acceleration, "criteria": list(settings.criteria),
                       "step": settings.step, "stop": settings.stop, "search": settings.search}
+            if settings.ladder_states():
+                kwargs["yielding_states"] = list(settings.ladder_states())
             key = task_key("rigid-record", ("rigid", "motions", "collapse"), **kwargs)
             tasks.append(Task(key, "rigid-record", record_task, {**kwargs, "cache": cache}))
             index[key] = (pressure, i)
@@ -140,6 +167,8 @@ def _collect_rigid(tasks, index, results, settings) -> dict:
         r.actual.append(_critical_from_json(data["actual"]))
         for c, p in data["predictions"].items():
             r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
+        for state, c in data.get("yielding", {}).items():
+            r.yielding.setdefault(state, []).append(_critical_from_json(c))
     return out_by_pressure
 
 
@@ -190,8 +219,9 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
             return ()
         pressure, i = index[task.key]
         owners.append((pressure, i))
+        yielding = {s: _critical_from_json(c) for s, c in result.get("yielding", {}).items()}
         return searches.add(DFPBearing(pressure=pressure), motions[i],
-                            _critical_from_json(result["actual"]))
+                            _critical_from_json(result["actual"]), yielding=yielding)
 
     with ResultStore(out / "results.sqlite") as store:
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,

@@ -90,6 +90,8 @@ class CriticalSA:
     capped : bool
         The ladder stops below the ``stop`` asked for: higher rungs would scale the record's
         peak acceleration beyond :data:`rigid.limits.MAX_MODEL_ACCELERATION`.
+    rims, failure_criterion : str
+        The rim model and the limit state that defined failure (:func:`rigid.simulate`).
     """
 
     sa: float | None
@@ -104,6 +106,8 @@ class CriticalSA:
     rungs: tuple
     cpu_seconds: float = 0.0
     capped: bool = False
+    rims: str = "rigid"
+    failure_criterion: str = "containment"
 
     @property
     def failed(self) -> bool:
@@ -168,7 +172,9 @@ class CriticalSA:
 
             extra += (f"; ladder ends at {self.stop / G:.2f} g (higher rungs would scale the "
                       f"record beyond the models' {MAX_MODEL_ACCELERATION / G:g} g)")
-        return f"{self.name}: {crit} ({len(self.rungs)} rungs, {self.search}){extra}"
+        rims = ("" if self.rims == "rigid"
+                else f", {self.rims} rims, failure = {self.failure_criterion}")
+        return f"{self.name}: {crit} ({len(self.rungs)} rungs, {self.search}{rims}){extra}"
 
 
 # --------------------------------------------------------------------------- cache
@@ -283,6 +289,8 @@ def critical_sa(
     max_step: float | None = None,
     impact_merge_time: float = 0.05,
     coarse_factor: int | None = None,
+    rims: str = "rigid",
+    failure_criterion: str | None = None,
 ) -> CriticalSA:
     """Critical SA(Tb) of a record: the first failing rung of a scaling ladder (paper §4.2;
     Eqs. C1–C3).
@@ -330,6 +338,9 @@ def critical_sa(
     max_step, impact_merge_time, coarse_factor
         Passed to :func:`rigid.simulate` (which runs with ``stop_when_quiet=True``,
         ``stop_at_failure=True`` and ``on_instability="refine"``, for the record plus ``free``).
+    rims, failure_criterion : str
+        The rim model and the limit state that defines failure (:func:`rigid.simulate`;
+        default the rim model's: "containment" for rigid rims, "hinge" for yielding ones).
 
     Returns
     -------
@@ -348,8 +359,12 @@ def critical_sa(
 
     if not (math.isfinite(free) and free >= 0):
         raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
+    from ..model import _check_rims
+
+    criterion = _check_rims(rims, failure_criterion)
     sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
-           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free)}
+           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free),
+           "rims": rims, "failure_criterion": criterion}
     if sim["max_step"] is None:
         from ..model import DEFAULT_MAX_STEP
 
@@ -401,6 +416,8 @@ def critical_sa(
         rungs=rungs,
         cpu_seconds=cpu[0],
         capped=capped,
+        rims=rims,
+        failure_criterion=criterion,
     )
 
 

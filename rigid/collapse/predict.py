@@ -136,13 +136,16 @@ class pulse_region:  # a callable class, named and used like a function
     """
 
     def __init__(self, bearing: DFPBearing, kind: str, dt: float = 0.005, free: float = 20.0,
-                 max_step: float | None = None):
+                 max_step: float | None = None, rims: str = "rigid",
+                 failure_criterion: str | None = None):
+        from ..model import _check_rims
         from ..motions.pulses import KINDS
 
         if kind not in KINDS:
             raise ValueError(f"kind must be 'symmetric' or 'antisymmetric', got {kind!r}")
         self.bearing, self.kind, self.dt, self.free = bearing, kind, float(dt), float(free)
         self.max_step = max_step
+        self.rims, self.failure_criterion = rims, _check_rims(rims, failure_criterion)
         self._memo: dict = {}
 
     def __call__(self, period: float, amplitude: float) -> int:
@@ -157,16 +160,17 @@ class pulse_region:  # a callable class, named and used like a function
             try:
                 r = simulate(self.bearing, a, self.dt, duration=(n - 1) * self.dt + self.free,
                              max_step=self.max_step or DEFAULT_MAX_STEP, record_every=n,
-                             on_instability="refine", stop_when_quiet=True)
+                             on_instability="refine", stop_when_quiet=True, rims=self.rims,
+                             failure_criterion=self.failure_criterion)
                 self._memo[key] = 2 if r.failed else (1 if r.impacts else 0)
             except NumericalInstabilityError:
                 self._memo[key] = -1
         return self._memo[key]
 
 
-def _resolve_region(region, bearing, kind):
+def _resolve_region(region, bearing, kind, rims="rigid", failure_criterion=None):
     if region is None:
-        return pulse_region(bearing, kind)
+        return pulse_region(bearing, kind, rims=rims, failure_criterion=failure_criterion)
     if isinstance(region, dict):
         if kind not in region:
             raise ValueError(f"the region mapping has no entry for a {kind} pulse")
@@ -198,6 +202,8 @@ def predict_critical_sa(
     period: float | None = None,
     damping: float = 0.05,
     dt: float | None = None,
+    rims: str = "rigid",
+    failure_criterion: str | None = None,
 ) -> PredictedSA:
     """Predicted critical SA(Tb): the first ladder rung whose scaled pulse is in region 2
     (Eq. C5).
@@ -233,6 +239,9 @@ def predict_critical_sa(
         Damping of the scaling spectrum.
     dt : float [s], optional
         Time step when ``motion`` is an array.
+    rims, failure_criterion : str
+        Rim model and limit state of the default region (:class:`pulse_region`; ignored
+        when ``region`` is given).
 
     Returns
     -------
@@ -251,7 +260,7 @@ def predict_critical_sa(
     else:
         used = None
     record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
-    where = _resolve_region(region, bearing, pulse.kind)
+    where = _resolve_region(region, bearing, pulse.kind, rims, failure_criterion)
     ap0 = abs(float(pulse.amplitude))
     done: dict[int, PredictionRung] = {}
 

@@ -120,8 +120,10 @@ def settings_from_attrs(ds) -> SweepSettings:
     """Rebuild the :class:`SweepSettings` recorded in a spectrum's ``settings_*`` attributes."""
     kwargs = {}
     for f in dataclasses.fields(SweepSettings):
-        value = ds.attrs[f"settings_{f.name}"]
-        if isinstance(value, str):
+        value = ds.attrs.get(f"settings_{f.name}", f.default)
+        if f.name in ("rims", "failure_criterion"):
+            pass
+        elif isinstance(value, str):
             value = None
         elif f.name == "stop_when_quiet":
             value = bool(value)

@@ -49,6 +49,10 @@ class SweepSettings:
         See :func:`rigid.simulate`.
     max_impacts : int
         Capacity of the impact list of one run.
+    rims : {"rigid", "yielding"}
+        Rim model (:func:`rigid.simulate`).
+    failure_criterion : {"hinge", "rupture", "containment"}, optional
+        The limit state of region 2 (failure); default the rim model's.
     """
 
     dt: float = 0.005
@@ -58,8 +62,14 @@ class SweepSettings:
     max_step: float = DEFAULT_MAX_STEP
     impact_merge_time: float = 0.05
     max_impacts: int = 1000
+    rims: str = "rigid"
+    failure_criterion: str | None = None
 
     def __post_init__(self):
+        from ..model import _check_rims
+
+        object.__setattr__(self, "failure_criterion",
+                           _check_rims(self.rims, self.failure_criterion))
         for name in ("dt", "free", "max_step"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
@@ -150,6 +160,8 @@ def compute_cell(
             max_impacts=settings.max_impacts,
             on_instability="refine",
             stop_when_quiet=settings.stop_when_quiet,
+            rims=settings.rims,
+            failure_criterion=settings.failure_criterion,
         )
     except NumericalInstabilityError:
         nan = math.nan

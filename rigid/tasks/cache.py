@@ -26,7 +26,10 @@ ROOT = Path(__file__).resolve().parents[2]
 #: ``.geo`` file below it.
 MODEL_CODE = {
     # the rigid-body model: what rigid.simulate runs
-    "rigid": ("rigid/units.py", "rigid/bearing.py", "rigid/model.py", "rigid/_kernel.py"),
+    "rigid": ("rigid/units.py", "rigid/bearing.py", "rigid/model.py", "rigid/_kernel.py",
+              "rigid/limit_states.py", "rigid/rims.py"),
+    # the yielding rims' law derived from the FE push (cached per bearing)
+    "rim-law": ("rigid/rims.py",),
     # the Ricker pulses of the impact-spectrum cells
     "pulses": ("rigid/motions/pulses.py",),
     # records, spectra, scaling and pulse extraction
@@ -37,6 +40,8 @@ MODEL_CODE = {
     "fem": ("fem", "meshes"),
     # one FE run of the validation: trimming and the end-of-run energy check
     "fem-run": ("validation/fem_runs.py",),
+    # one FE run of a Ricker pulse (the yielding-rims study)
+    "fem-pulse-run": ("validation/studies/pulse_fe_runs.py",),
 }
 
 

@@ -1,0 +1,182 @@
+"""The yielding rims' law: the force–deflection curve of a rim, derived from a static push of
+the rim by the FE companion (:func:`fem.rim_pushover`) and cached per bearing geometry and
+steel (docs/theory/rigid-body.md, "Yielding rims", Eqs. R55–R63).
+
+Call :func:`rim_law`; :func:`rigid.simulate` does so itself with ``rims="yielding"``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .bearing import DFPBearing
+
+__all__ = ["RimLaw", "rim_law", "rim_law_from_push"]
+
+#: The push (fem.rim_pushover): to 1.5 mm in 60 increments of 0.025 mm, which resolve the
+#: bend from the elastic line to the hinge (about 0.1–0.6 mm for the baseline rim), then to
+#: half the rim height in the default 40 increments.
+FINE_PUSH = (1.5e-3, 60)
+#: Elastic push [m]: a tenth of a millimetre, in two increments, with elastic steel.
+ELASTIC_PUSH = 1e-4
+#: Lever of the rim's bending as a fraction of its height (Eq. R55): the centre of the
+#: pushed upper half of the inner face, 3/4 of the height above the root.
+LEVER_FRACTION = 0.75
+#: Past the push the backbone keeps the root moment of its last row while the lever
+#: shortens as the rim turns (Eq. R56b), up to this cos φ (φ = 60°), and is flat beyond:
+#: the constant-moment force grows without bound as the lever vanishes, and run to cos φ =
+#: 0.1 its stiff end broke the energy balance of the explicit geometry update (up to 5.9 %
+#: of the input on ten pulses, one run numerical, against at most 0.7 % with 0.5;
+#: docs/theory/rigid-body.md, "Yielding rims").
+LAST_COS = 0.5
+
+
+@dataclass(frozen=True)
+class RimLaw:
+    """Lateral force–deflection law of one rim (Eqs. R56–R57).
+
+    Attributes
+    ----------
+    stiffness : float [N/m]
+        Elastic stiffness k_el (the elastic push).
+    plastic_set : ndarray [m]
+        Backbone abscissae: the permanent set u_p = δ − F/k_el of each push increment, from 0.
+    force : ndarray [N]
+        Backbone: the force at each set (non-decreasing; flat past the last row).
+    first_yield_force : float [N]
+        The backbone's start: where the push leaves the elastic line (u_p = 0).
+    hinge_displacement, hinge_force : float [m, N]
+        The push's hinge (the whole root section plastic, Eq. F36).
+    hinge_set : float [m]
+        u_p at the hinge: the hinge limit state of the rigid model (Eq. R62).
+    rupture_displacement : float [m]
+        δ at which the push's gauge-averaged plastic strain reaches the rupture strain
+        (Eqs. F51–F52), inf if it never does within the push.
+    rupture_set : float [m]
+        u_p there: the rupture limit state's proxy (Eq. R62).
+    lever : float [m]
+        Lever L of the rim's bending: a set u_p turns the rim by sin φ = u_p/L, which lowers
+        its free end (Eq. R55).
+    push_displacement, push_force : ndarray [m, N]
+        The push curve the law was derived from (for the static check and the figures).
+    """
+
+    stiffness: float
+    plastic_set: np.ndarray
+    force: np.ndarray
+    first_yield_force: float
+    hinge_displacement: float
+    hinge_force: float
+    hinge_set: float
+    rupture_displacement: float
+    rupture_set: float
+    lever: float
+    push_displacement: np.ndarray
+    push_force: np.ndarray
+
+    @property
+    def table(self) -> np.ndarray:
+        """The backbone as the kernel reads it: rows of (u_p [m], F [N])."""
+        return np.ascontiguousarray(np.column_stack([self.plastic_set, self.force]))
+
+    def backbone(self, plastic_set) -> np.ndarray:
+        """Backbone force [N] at plastic sets [m] (linear between rows, flat past the end)."""
+        return np.interp(plastic_set, self.plastic_set, self.force)
+
+
+def rim_law_from_push(bearing: DFPBearing, stiffness: float, fine, full) -> RimLaw:
+    """Build the law from an elastic stiffness [N/m] and two pushes of the rim
+    (:class:`fem.pushover.Pushover`): ``fine`` to the hinge and a little beyond, ``full`` to
+    half the rim height (Eq. R56)."""
+    if fine.hinge_displacement is None:
+        raise ValueError("the fine push did not reach the hinge: push further")
+    keep = full.displacement > fine.displacement[-1] * (1 + 1e-9)
+    d = np.concatenate([fine.displacement, full.displacement[keep]])
+    f = np.concatenate([fine.force, full.force[keep]])
+    up = d - f / stiffness
+    # the backbone starts where the push leaves the elastic line (u_p crosses 0 upward)
+    first = int(np.flatnonzero(up > 0)[0])
+    f0 = np.interp(0.0, up[first - 1:first + 1], f[first - 1:first + 1])
+    sets = np.concatenate([[0.0], up[first:]])
+    forces = np.maximum.accumulate(np.concatenate([[f0], f[first:]]))  # flat past the peak
+    sets = np.maximum.accumulate(sets)
+    keep = np.concatenate([[True], np.diff(sets) > 0])
+    sets, forces = _beyond_push(sets[keep], forces[keep], LEVER_FRACTION * bearing.rim_height)
+    keep = slice(None)
+    hinge_set = fine.hinge_displacement - fine.hinge_force / stiffness
+    avg = full.averaged_plastic_strain
+    if avg.max() >= bearing.rupture_strain:
+        k = int(np.flatnonzero(avg >= bearing.rupture_strain)[0])
+        rupture_d = float(np.interp(bearing.rupture_strain, avg[k - 1:k + 1],
+                                    full.displacement[k - 1:k + 1]))
+        rupture_set = rupture_d - float(np.interp(rupture_d, d, f)) / stiffness
+    else:
+        rupture_d = rupture_set = math.inf
+    return RimLaw(
+        stiffness=float(stiffness), plastic_set=sets[keep], force=forces[keep],
+        first_yield_force=float(f0), hinge_displacement=float(fine.hinge_displacement),
+        hinge_force=float(fine.hinge_force), hinge_set=float(hinge_set),
+        rupture_displacement=rupture_d, rupture_set=float(rupture_set),
+        lever=LEVER_FRACTION * bearing.rim_height, push_displacement=d, push_force=f,
+    )
+
+
+def _beyond_push(sets, forces, lever):
+    """The backbone past the push's last row (Eq. R56b): the rim's root moment stays that of
+    the last row while the lever over which the slider pushes it, L·cos φ with
+    sin φ = u_p/L, shortens, so F = F_end·cos φ_end/cos φ, down to cos φ = LAST_COS."""
+    s_end = min(sets[-1] / lever, 1.0)
+    c_end = math.sqrt(1.0 - s_end**2)
+    cos = np.linspace(c_end, LAST_COS, 41)[1:]
+    return (np.concatenate([sets, lever * np.sqrt(1.0 - cos**2)]),
+            np.concatenate([forces, forces[-1] * c_end / cos]))
+
+
+def _cache_file(bearing: DFPBearing) -> Path:
+    from .tasks import cache_root, task_key
+
+    # the bottom plate and its steel: everything but the load on it
+    inputs = {k: v for k, v in dataclasses.asdict(bearing).items() if k != "pressure"}
+    key = task_key("rim-law", ("fem", "rim-law"), bearing=inputs, fine=FINE_PUSH,
+                   elastic=ELASTIC_PUSH, lever=LEVER_FRACTION, last_cos=LAST_COS)
+    return cache_root() / "rim-laws" / f"{key}.npz"
+
+
+def rim_law(bearing: DFPBearing, *, cache: bool = True) -> RimLaw:
+    """The law of the bearing's rims, from pushes of the FE companion's rim (finite
+    deformation, default mesh; docs/theory/finite-elements.md, "Rim push"), cached in the
+    library's cache folder (:func:`rigid.tasks.cache_root`) per geometry and steel; the first
+    call for a bearing runs the pushes (about 20 s of CPU).
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+        Its rims' geometry, steel and rupture strain (the pressure does not matter).
+    cache : bool
+        Read and write the cache.
+    """
+    path = _cache_file(bearing)
+    if cache and path.exists():
+        with np.load(path) as data:
+            fields = {f.name: data[f.name] for f in dataclasses.fields(RimLaw)}
+        return RimLaw(**{k: (v if v.ndim else float(v)) for k, v in fields.items()})
+    from fem import rim_pushover
+
+    elastic = rim_pushover(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
+    stiffness = float(elastic.force[-1] / elastic.displacement[-1])
+    fine = rim_pushover(bearing, displacement=FINE_PUSH[0], steps=FINE_PUSH[1])
+    full = rim_pushover(bearing)
+    law = rim_law_from_push(bearing, stiffness, fine, full)
+    if cache:
+        from .tasks import atomic_path
+
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(path) as tmp:
+            with open(tmp, "wb") as f:
+                np.savez(f, **dataclasses.asdict(law))
+    return law
