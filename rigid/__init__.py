@@ -3,7 +3,8 @@
 Bao & Becker (2016), *Predicting failure in sliding isolation bearings under long-period
 motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
 
-Layout: the model itself (:mod:`rigid.bearing`, :mod:`rigid.model` and its Numba kernel);
+Layout: the model itself (:mod:`rigid.bearing`, :mod:`rigid.model` and its Numba kernel;
+:mod:`rigid.rims`, the law of its yielding rims);
 :mod:`rigid.motions` (records, record sets, pulses, spectra, pulse extraction);
 :mod:`rigid.impact` (impact spectra, paper §3); :mod:`rigid.collapse` (critical SA, its
 prediction, fragility, paper §4); :mod:`rigid.tasks` (result store, cache, task runner).
@@ -53,6 +54,7 @@ from .motions import (
     scale_factor,
     scaling_ladder,
 )
+from .rims import RimLaw, rim_law
 from .units import G
 
 __all__ = [
@@ -67,6 +69,7 @@ __all__ = [
     "PredictedSA",
     "Pulse",
     "RecordFormatError",
+    "RimLaw",
     "SimulationResult",
     "SweepSettings",
     "best_pulse",
@@ -93,6 +96,7 @@ __all__ = [
     "ricker_displacement",
     "ricker_record",
     "ricker_velocity",
+    "rim_law",
     "save_spectrum",
     "scale_factor",
     "scaling_ladder",

@@ -120,3 +120,17 @@ def test_simulate_pulses_and_critical_sa_on_a_record(tmp_path):
     assert pulses.stdout.count("antisymmetric") == 4  # every criterion finds the pulse itself
     crit = dfp("critical-sa", *record, "--search", "fast", "--after-failure", "0")
     assert crit.returncode == 0 and "critical SA" in crit.stdout and "predicted SA" in crit.stdout
+
+
+def test_simulate_with_yielding_rims(tmp_path):
+    """--rims yielding: the heavy bearing under a pulse that its rigid rims survive fails by
+    the first hinge (the default limit state of yielding rims); a limit state that rigid rims
+    cannot reach is a one-line error."""
+    pulse = ["--pressure", "60", "--amplitude", "0.8", "--period", "2"]
+    rigid_rims = dfp("simulate", *pulse, "--out", str(tmp_path / "r"))
+    assert rigid_rims.returncode == 0 and "no failure" in rigid_rims.stdout
+    yielding = dfp("simulate", *pulse, "--rims", "yielding", "--out", str(tmp_path / "y"))
+    assert yielding.returncode == 0, yielding.stderr
+    assert "FAILED by yielding" in yielding.stdout and "hinge" in yielding.stdout
+    _one_line_error(dfp("simulate", *pulse, "--limit-state", "hinge", "--out",
+                        str(tmp_path / "e")), "--rims yielding")

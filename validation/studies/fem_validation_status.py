@@ -1,0 +1,97 @@
+"""Where a long validation run stands, read from its store without running anything: every
+FE search replayed from the stored runs (the searches are pure functions of their outcomes,
+:class:`validation.fem_search.BracketBisect`), finished ones with their answer, unfinished
+ones with the runs they have made; the rigid critical SA with rigid and with yielding rims
+beside them.
+
+Run: ``python -m validation.studies.fem_validation_status [--out docs/fem-validation]
+[--limit-state hinge]`` with the settings of the run (those of ``dfp validate`` without
+``--quick``: the FEMA P695 near-field pulse set, 60 and 10 MPa, coarse mesh, 0.005 s steps,
+finite deformation); writes ``OUT/status.csv`` and prints a summary. A setting that differs
+from the run's finds nothing stored: the keys include every setting.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from rigid import DFPBearing, G, fema_p695
+from rigid.collapse.comparison import write_csv
+from rigid.tasks import ResultStore
+from validation.fem_search import FESearches, FESettings
+from validation.run import Settings, _critical_from_json, _rigid_tasks
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def replay(out: Path, settings: Settings, motions) -> list[dict]:
+    """One row per (pressure, record, limit state): the stored answers so far."""
+    tasks, index = _rigid_tasks(motions, settings, out)
+    searches = FESearches(settings.fem, step=settings.step, start=settings.step,
+                          stop=settings.stop)
+    owners, rigid = [], {}
+    with ResultStore(out / "results.sqlite") as store:
+        for task in tasks:
+            pressure, i = index[task.key]
+            result = store.get(task.key)
+            if result is None:
+                continue
+            rigid[pressure, i] = result
+            yielding = {s: _critical_from_json(c) for s, c in result["yielding"].items()}
+            pending = list(searches.add(DFPBearing(pressure=pressure), motions[i],
+                                        _critical_from_json(result["actual"]), yielding))
+            owners.append((pressure, i))
+            while pending:
+                task = pending.pop()
+                stored = store.get(task.key)
+                if stored is not None:
+                    pending += searches.follow_up(task, stored)
+    found = searches.results()
+    per = len(settings.fem.limit_states)
+    rows = []
+    for k, (pressure, i) in enumerate(owners):
+        for search, r in zip(searches.searches[k * per:(k + 1) * per],
+                             found[k * per:(k + 1) * per], strict=True):
+            rows.append({
+                "record": motions[i].name, "pressure_mpa": pressure / 1e6,
+                "limit_state": r.limit_state, "finished": search.done,
+                "rigid_sa_g": None if r.rigid_sa is None else r.rigid_sa / G,
+                "yielding_sa_g": None if r.yielding_sa is None else r.yielding_sa / G,
+                "fem_sa_g": None if r.sa is None else r.sa / G,
+                "fem_failure_mode": r.failure_mode, "fem_runs": r.runs,
+                "numerical_runs": r.numerical_runs, "uncertain": r.uncertain,
+                "fem_cpu_min": r.cpu_seconds / 60,
+            })
+    return rows
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--out", type=Path, default=ROOT / "docs/fem-validation")
+    p.add_argument("--limit-state", nargs="+", default=["hinge"])
+    args = p.parse_args()
+    motions = fema_p695("nearfield_pulse")
+    fem = FESettings(max_step=0.005, limit_states=tuple(args.limit_state))
+    settings = Settings(fem=fem, rims=("rigid", "yielding"))
+    rows = replay(args.out, settings, motions)
+    write_csv(rows, args.out / "status.csv")
+    done = [r for r in rows if r["finished"]]
+    print(f"{len(rows)} searches started, {len(done)} finished of "
+          f"{2 * len(motions) * len(args.limit_state)}; FE runs made: "
+          f"{sum(r['fem_runs'] for r in rows)}")
+    for model, key in (("rigid rims", "rigid_sa_g"), ("yielding rims", "yielding_sa_g")):
+        ratios = np.array([r["fem_sa_g"] / r[key] for r in done
+                           if r["fem_sa_g"] and r[key] and not r["uncertain"]])
+        if ratios.size:
+            print(f"  FE / rigid model with {model}: median {np.median(ratios):.2f}, "
+                  f"dispersion {np.std(np.log(ratios)):.2f}, within ±20 %: "
+                  f"{int(np.sum(np.abs(ratios - 1) <= 0.2))} of {ratios.size}, within ±35 %: "
+                  f"{int(np.sum(np.abs(ratios - 1) <= 0.35))}")
+    print(args.out / "status.csv")
+
+
+if __name__ == "__main__":
+    main()
