@@ -110,6 +110,32 @@ def test_progress_log_has_a_line_per_run_with_the_time_left(tmp_path):
     assert "about 2 min left" in line
 
 
+def test_time_left_counts_the_follow_ups_expected():
+    """A search: each 10 s "ladder" task has brought 2 "fem" runs and each 60 s "fem" run half
+    a further one (a chain of 2 on average). Expected work per fem run W_f = 60 / (1 − 0.5)
+    = 120 s, per ladder W_l = 10 + 2 W_f = 250 s (closed form of the Progress docstring);
+    three ladders queued, nothing running, one worker: 750 s = 12.5 min, shown rounded."""
+    from rigid.tasks.runner import Progress
+
+    tally = Progress(1)
+    fem = Task("f", "fem", _square, {})
+    tally.spawned("ladder", [fem, fem])
+    tally.spawned("fem", [fem])
+    tally.spawned("fem", [])
+    tally.seconds = {"ladder": [10.0], "fem": [60.0]}
+    line = tally.record("fem", 60.0, 0, [Task("l", "ladder", _square, {})] * 3)
+    # record() added a third 60 s fem run: the means stay 10 and 60 s; 12.5 min is shown as
+    # "12 min" (format rounds half to even)
+    assert "about 12 min left" in line
+    assert tally._work({"ladder": 10.0, "fem": 60.0}, 35.0) == pytest.approx(
+        {"ladder": 250.0, "fem": 120.0}, rel=1e-12)
+    # a chain that has always gone on (1 follow-up per run): no finite answer, the run's own
+    # mean only
+    always = Progress(1)
+    always.spawned("fem", [fem])
+    assert always._work({"fem": 60.0}, 60.0) == {"fem": 60.0}
+
+
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""
     store = ResultStore(tmp_path / "r.sqlite")

@@ -100,3 +100,29 @@ def test_fem_section_in_page_csv_and_netcdf(tmp_path):
     runs = read_table(tmp_path / "report.nc", "fem_runs")
     assert [r["failed"] for r in runs] == [True, False]
     assert runs[0]["max_rim_force_mn"] == pytest.approx(2.0, rel=1e-12)
+
+
+def test_fem_statistics_against_hand_computed_values():
+    """Median, dispersion and band counts of five known FE/rigid ratios, computed by hand:
+    ratios 0.5, 0.9, 1.0, 1.3, 2.0 → median 1.0, within ±20 %: 2 (0.9, 1.0), within ±35 %: 3
+    (and 1.3); dispersion = population std of their logarithms. An uncertain case and one
+    without a rigid answer are left out of the comparison but counted as cases."""
+    from validation.report.write import fem_statistics
+
+    ratios = [0.5, 0.9, 1.0, 1.3, 2.0]
+    rows = [{"limit_state": "hinge", "fem_over_rigid": q, "fem_over_yielding": 1.0,
+             "uncertain": False} for q in ratios]
+    rows += [{"limit_state": "hinge", "fem_over_rigid": 0.1, "fem_over_yielding": 0.1,
+              "uncertain": True},
+             {"limit_state": "hinge", "fem_over_rigid": None, "fem_over_yielding": None,
+              "uncertain": False}]
+    stats = {s["rigid_model"]: s for s in fem_statistics(rows)}
+    rigid = stats["rigid rims"]
+    assert (rigid["cases"], rigid["compared"]) == (7, 5)
+    assert rigid["median_ratio"] == 1.0
+    logs = [math.log(q) for q in ratios]
+    mean = sum(logs) / 5
+    assert rigid["dispersion"] == pytest.approx(math.sqrt(sum((v - mean) ** 2 for v in logs) / 5),
+                                                rel=1e-12)
+    assert (rigid["within_20_percent"], rigid["within_35_percent"]) == (2, 3)
+    assert stats["yielding rims"]["within_35_percent"] == 5

@@ -130,14 +130,45 @@ class _Dask:
 
 class Progress:
     """Figures of a run of tasks for people watching it: runs done, running and queued, seconds
-    per run by kind, and the time left for the known queue (mean seconds of each queued task's
-    kind, over the workers); appended to a log file when one is given."""
+    per run by kind, and the time left: the queued and running tasks and the follow-ups they
+    are expected to bring (a search's next runs), at the rates seen so far; appended to a log
+    file when one is given.
+
+    Each finished task of kind A has brought r_AB follow-ups of kind B on average, so the
+    expected work of one task of kind A, its follow-ups included, solves
+    W_A = m_A + Σ_B r_AB W_B (m: mean seconds per run of each kind), i.e. W = (I − R)⁻¹ m;
+    where that has no finite positive solution (a chain that has so far always gone on) only
+    the known queue counts."""
 
     def __init__(self, capacity: int, log=None):
         self.capacity = max(1, int(capacity))
         self.log = None if log is None else Path(log)
         self.seconds: dict = {}
+        self.finished: dict = {}   # kind → tasks finished (run or read from the store)
+        self.children: dict = {}   # (kind, follow-up kind) → follow-ups brought
         self.started = time.time()
+
+    def spawned(self, kind: str, follow_ups) -> None:
+        """Enter the follow-ups a finished task of ``kind`` brought (stored results too)."""
+        self.finished[kind] = self.finished.get(kind, 0) + 1
+        for t in follow_ups:
+            self.children[kind, t.kind] = self.children.get((kind, t.kind), 0) + 1
+
+    def _work(self, mean: dict, default: float) -> dict:
+        """Expected seconds of one task of each kind with its follow-ups (class docstring)."""
+        import numpy as np
+
+        kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
+        m = np.array([mean.get(k, default) for k in kinds])
+        r = np.array([[self.children.get((a, b), 0) / self.finished[a] if self.finished.get(a)
+                       else 0.0 for b in kinds] for a in kinds])
+        try:
+            w = np.linalg.solve(np.eye(len(kinds)) - r, m)
+        except np.linalg.LinAlgError:
+            w = m
+        if not np.all(np.isfinite(w)) or np.any(w < m):
+            w = m
+        return dict(zip(kinds, w.tolist(), strict=True))
 
     def record(self, kind: str, seconds: float, running: int, queue) -> str:
         """Enter a finished task; return (and log) the progress line."""
@@ -145,11 +176,12 @@ class Progress:
         done = sum(len(v) for v in self.seconds.values())
         every = [x for v in self.seconds.values() for x in v]
         mean = {k: sum(v) / len(v) for k, v in self.seconds.items()}
-        left = sum(mean.get(t.kind, sum(every) / len(every)) for t in queue)
-        left = (left + running * mean[kind] / 2) / self.capacity
+        work = self._work(mean, sum(every) / len(every))
+        left = sum(work[t.kind] if t.kind in work else sum(every) / len(every) for t in queue)
+        left = (left + running * (work[kind] - mean[kind] / 2)) / self.capacity
         line = (f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {done} run, {running} running, "
                 f"{len(queue)} queued; {kind} {seconds:.0f} s (mean {mean[kind]:.0f} s); "
-                f"about {_duration(left)} left of the known queue, "
+                f"about {_duration(left)} left with the follow-ups expected, "
                 f"{_duration(time.time() - self.started)} so far")
         if self.log is not None:
             with open(self.log, "a") as fh:
@@ -227,13 +259,14 @@ def run_tasks(
 
     def finish(task, result, seconds=None):
         results[task.key] = result
+        new = list(follow_up(task, result)) if follow_up else []
+        tally.spawned(task.kind, new)
+        queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
+        bar.total += sum(t.size for t in new)
         bar.update(task.size)
         if seconds is not None:
             line = tally.record(task.kind, seconds, len(in_flight), queue)
             bar.set_postfix_str(line.split(": ", 1)[1], refresh=False)
-        new = list(follow_up(task, result)) if follow_up else []
-        queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
-        bar.total += sum(t.size for t in new)
 
     try:
         while queue or in_flight:

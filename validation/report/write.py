@@ -192,7 +192,8 @@ def fem_rows(fem: dict) -> list[dict]:
 def fem_statistics(rows: list[dict]) -> list[dict]:
     """Paper Fig. 4 in numbers: per FE limit state and rim model of the rigid model, over the
     searches with both answers and no uncertainty, the median FE / rigid ratio, its
-    dispersion (standard deviation of its logarithm) and how many lie within ±20 %."""
+    dispersion (standard deviation of its logarithm) and how many lie within ±20 % and ±35 %
+    (the ±15 % median and ±35 % per-record goal of docs/fem_validation.md)."""
     out = []
     for state in LIMIT_STATES:
         for model, key in (("rigid rims", "fem_over_rigid"),
@@ -208,6 +209,7 @@ def fem_statistics(rows: list[dict]) -> list[dict]:
                 "median_ratio": float(np.median(ratios)) if ratios.size else None,
                 "dispersion": float(np.std(np.log(ratios))) if ratios.size > 1 else None,
                 "within_20_percent": int(np.sum(np.abs(ratios - 1) <= 0.2)),
+                "within_35_percent": int(np.sum(np.abs(ratios - 1) <= 0.35)),
             })
     return out
 
