@@ -370,6 +370,20 @@ def check_model_input(bearing, acceleration, dt, duration) -> tuple[np.ndarray, 
     return np.ascontiguousarray(a), duration
 
 
+def internal_steps(dt: float, max_step: float, far_step: float = FAR_STEP,
+                   coarse_factor: int | None = None) -> tuple[int, int]:
+    """Fine steps per input sample and fine steps per coarse step, ``(n, m_c)``: the fine step
+    dt/n is at most ``max_step`` [s], the coarse step m_c·dt/n at most ``far_step`` [s] (or
+    ``coarse_factor`` fine steps), and m_c divides n, so that every input sample is covered
+    by whole coarse steps (docs/theory/rigid-body.md, Eq. R34b). ``dt`` [s] is the record's
+    sampling."""
+    if coarse_factor:
+        return coarse_factor * math.ceil(dt / (coarse_factor * max_step) - 1e-9), coarse_factor
+    per_sample = math.ceil(dt / far_step - 1e-9)  # coarse steps per input sample
+    coarse = math.ceil(dt / per_sample / max_step - 1e-9)
+    return per_sample * coarse, coarse
+
+
 def simulate(
     bearing: DFPBearing,
     acceleration,
@@ -474,11 +488,10 @@ def simulate(
     summary = np.zeros(K.N_SUMMARY)
     quiet_energy = 0.95 * reach_energy(bearing) if stop_when_quiet else 0.0  # Eq. R41
     for attempt in range(4 if on_instability == "refine" else 1):
-        n_sub = max(1, math.ceil(dt / (max_step / 2**attempt) - 1e-9))
+        n_sub, coarse = internal_steps(dt, max_step / 2**attempt, FAR_STEP / 2**attempt,
+                                       coarse_factor)
         h = dt / n_sub
-        medium = max(1, math.floor(explicit_step(bearing) / 2**attempt / h))
-        coarse = coarse_factor or max(medium, math.floor(FAR_STEP / 2**attempt / h + 1e-9))
-        medium = min(medium, coarse)
+        medium = min(coarse, max(1, math.floor(explicit_step(bearing) / 2**attempt / h)))
         K.integrate(p, static_state(bearing), a, n_sub, h, n_samples * n_sub, medium, int(coarse),
                     quiet_energy, bool(stop_at_failure), hist, events, summary, law)
         if int(summary[K.S_STATUS]) != K.STATUS_NUMERICAL:
