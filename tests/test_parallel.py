@@ -57,6 +57,30 @@ def test_task_key_changes_with_the_models_code(tmp_path, monkeypatch):
         task_key("rung", ("kernel",), scale=1.0)
 
 
+def test_only_yielding_rim_ladders_key_on_the_rim_law(tmp_path, monkeypatch):
+    """Editing the yielding rims' law (rigid/rims.py, stood in for here by a temporary file)
+    moves the key of a ladder rung with yielding rims and leaves one with rigid rims (and so
+    the stored FE runs of a validation, which run the rigid model with rigid rims only)."""
+    from rigid.collapse.ladder import _Store
+    from rigid.tasks import cache
+
+    (tmp_path / "kernel.py").write_text("y = 1\n")
+    law = tmp_path / "rims.py"
+    law.write_text("x = 1\n")
+    monkeypatch.setattr(cache, "ROOT", tmp_path)
+    monkeypatch.setitem(cache.MODEL_CODE, "rigid", ("kernel.py",))
+    monkeypatch.setitem(cache.MODEL_CODE, "rim-law", ("rims.py",))
+    ladders = [_Store(None, {"dt": 0.01, "simulate": {"rims": rims}})
+               for rims in ("rigid", "yielding")]
+    cache.code_hash.cache_clear()
+    before = [s._key(3) for s in ladders]
+    law.write_text("x = 2\n")
+    cache.code_hash.cache_clear()
+    after = [s._key(3) for s in ladders]
+    cache.code_hash.cache_clear()
+    assert before[0] == after[0] and before[1] != after[1]
+
+
 def test_store_round_trip(tmp_path):
     with ResultStore(tmp_path / "r.sqlite") as store:
         store.put("k1", "rigid", {"failed": True, "v": [1.5, 2.0]}, seconds=0.1)

@@ -153,7 +153,9 @@ def _rigid_tasks(motions, settings: Settings, out: Path):
                       "step": settings.step, "stop": settings.stop, "search": settings.search}
             if settings.ladder_states():
                 kwargs["yielding_states"] = list(settings.ladder_states())
-            key = task_key("rigid-record", ("rigid", "motions", "collapse"), **kwargs)
+            models = ("rigid", "rim-law", "motions", "collapse") if settings.ladder_states() \
+                else ("rigid", "motions", "collapse")
+            key = task_key("rigid-record", models, **kwargs)
             tasks.append(Task(key, "rigid-record", record_task, {**kwargs, "cache": cache}))
             index[key] = (pressure, i)
     return tasks, index

@@ -189,7 +189,9 @@ class _Store:
         self.db = None if directory is None else ResultStore(Path(directory) / "ladders.sqlite")
 
     def _key(self, j: int) -> str:
-        return task_key("ladder-rung", ("rigid",), rung=j, **self.ladder)
+        yielding = self.ladder["simulate"]["rims"] == "yielding"
+        models = ("rigid", "rim-law") if yielding else ("rigid",)
+        return task_key("ladder-rung", models, rung=j, **self.ladder)
 
     def get(self, j: int):
         return None if self.db is None else self.db.get(self._key(j))

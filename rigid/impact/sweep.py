@@ -189,7 +189,8 @@ def cell_key(
 ) -> str:
     """Cache key of a cell (:func:`rigid.tasks.task_key`): every input that determines its
     outcome and the code of the rigid model and of the pulses."""
-    return task_key("impact-cell", ("rigid", "pulses"), bearing=bearing, settings=settings,
+    models = ("rigid", "pulses") + (("rim-law",) if settings.rims == "yielding" else ())
+    return task_key("impact-cell", models, bearing=bearing, settings=settings,
                     kind=kind, period=float(period), amplitude=float(amplitude))
 
 

@@ -25,10 +25,11 @@ ROOT = Path(__file__).resolve().parents[2]
 #: The source files of each model, relative to :data:`ROOT`; a folder means every ``.py`` and
 #: ``.geo`` file below it.
 MODEL_CODE = {
-    # the rigid-body model: what rigid.simulate runs
+    # the rigid-body model: what rigid.simulate runs with rigid rims
     "rigid": ("rigid/units.py", "rigid/bearing.py", "rigid/model.py", "rigid/_kernel.py",
-              "rigid/limit_states.py", "rigid/rims.py"),
-    # the yielding rims' law derived from the FE push (cached per bearing)
+              "rigid/limit_states.py"),
+    # the yielding rims' law derived from the FE push (cached per bearing); results of runs
+    # with yielding rims key on it too
     "rim-law": ("rigid/rims.py",),
     # the Ricker pulses of the impact-spectrum cells
     "pulses": ("rigid/motions/pulses.py",),
