@@ -108,6 +108,26 @@ def test_validation_run_on_a_manifest(tmp_path):
     assert again.returncode == 0 and again.stdout.splitlines()[1:] == result.stdout.splitlines()[1:]
 
 
+def test_validation_run_of_a_bearing_variant(tmp_path):
+    """--rim-thickness reaches the bearing of every task: the report's bearing table and
+    settings name 80 mm rims. An impossible variant is a one-line error (a 150 mm rim leaves
+    no clearance between the plates' rims)."""
+    from validation.report.netcdf import read_table
+
+    out = tmp_path / "run"
+    result = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",
+                 "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
+                 "--no-fem", "--rims", "rigid", "--rim-thickness", "80", "--out", str(out))
+    assert result.returncode == 0, result.stderr
+    rows = {r["parameter"]: r for r in read_table(out / "report.nc", "bearing_10MPa")}
+    row = rows["rim thickness"]
+    assert float(row["value"]) * {"m": 1e3, "mm": 1.0}[row["unit"]] == pytest.approx(80.0)
+    settings = {r["setting"]: r["value"] for r in read_table(out / "report.nc", "settings")}
+    assert settings["bearing variant"] == "rim thickness 80 mm"
+    _one_line_error(dfp("validate", "--rim-height", "150", "--no-fem", "--out", str(out)),
+                    "no clearance")
+
+
 def test_simulate_pulses_and_critical_sa_on_a_record(tmp_path):
     """The single-record subcommands run on a plain-text record and write their plots."""
     _pulse_manifest(tmp_path)

@@ -276,7 +276,14 @@ def validate(args) -> int:
         fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
         rims=tuple(dict.fromkeys(["rigid", *args.rims])),
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
+        bearing=tuple((field, getattr(args, field) / 1e3) for field in ("rim_thickness",
+                      "rim_height") if getattr(args, field) is not None),
     )
+    for pressure in settings.pressures:  # a variant that is no bearing fails here, in one line
+        try:
+            settings.bearing_at(pressure)
+        except ValueError as exc:
+            raise CommandError(str(exc)) from None
     print(f"validation: {len(motions)} records ({label}), pressures "
           f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
     start = time.perf_counter()
@@ -315,6 +322,7 @@ def validate(args) -> int:
 
 _PRESSURE = _number(float, PRESSURE_RANGE[0] / 1e6, PRESSURE_RANGE[1] / 1e6, " MPa",
                     "what sliding bearings are designed for")
+_RIM_SIZE = _number(float, 5, 200, " mm", "rims of sliding bearings are a few centimetres")
 _STOP = _number(float, 0, MAX_SA_STOP / G, " g", "every studied record fails below 1.5 g",
                 low_open=True)
 
@@ -460,6 +468,10 @@ def build_parser() -> argparse.ArgumentParser:
                    "state, where the FE searches then start")
     p.add_argument("--fem-kinematics", choices=("finite", "small"), default="finite",
                    help="FE kinematics: finite deformation (default) or small strain")
+    p.add_argument("--rim-thickness", type=_RIM_SIZE,
+                   help="a bearing variant: the rims' thickness [mm] (default 40)")
+    p.add_argument("--rim-height", type=_RIM_SIZE,
+                   help="a bearing variant: the rims' height [mm] (default 35)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
     p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),

@@ -43,6 +43,9 @@ class Settings:
         per limit state of ``yielding_states``; with FE runs, each FE search starts there).
     yielding_states : tuple of str
         Limit states of the yielding-rim ladders; default the FE limit states (or the hinge).
+    bearing : tuple of (str, float)
+        DFPBearing fields other than the pressure that differ from the baseline, in SI units
+        (e.g. ``(("rim_thickness", 0.08),)`` for rims twice as thick); default none.
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -55,6 +58,11 @@ class Settings:
     fem_records: int | None = None
     rims: tuple = ("rigid",)
     yielding_states: tuple | None = None
+    bearing: tuple = ()
+
+    def bearing_at(self, pressure: float) -> DFPBearing:
+        """The bearing of the run at ``pressure`` [Pa]."""
+        return DFPBearing(**dict(self.bearing), pressure=pressure)
 
     def ladder_states(self) -> tuple:
         """Limit states of the yielding-rim ladders (none without yielding rims)."""
@@ -73,11 +81,15 @@ class Settings:
                "rigid model's rims": ", ".join(self.rims)
                + (f" (yielding: {', '.join(self.ladder_states())})"
                   if self.ladder_states() else "")}
+        if self.bearing:
+            out["bearing variant"] = ", ".join(f"{k.replace('_', ' ')} {v * 1e3:g} mm"
+                                               for k, v in self.bearing)
         if self.fem is None:
             return out | {"FE critical SA": "not run"}
         pressures = self.fem_pressures or self.pressures
         return out | {
-            "FE critical SA": "bracket from the rigid critical SA, then bisect to one step",
+            "FE critical SA": "bracket from the rigid critical SA (with yielding rims when "
+                              "run), then bisect to one step",
             "FE pressures [MPa]": [p / 1e6 for p in pressures],
             "FE records": "all" if self.fem_records is None
             else f"the {self.fem_records} shortest",
@@ -146,7 +158,7 @@ def _rigid_tasks(motions, settings: Settings, out: Path):
     cache = str(out / "ladders")
     tasks, index = [], {}
     for pressure in settings.pressures:
-        bearing = dataclasses.asdict(DFPBearing(pressure=pressure))
+        bearing = dataclasses.asdict(settings.bearing_at(pressure))
         for i, m in enumerate(motions):
             kwargs = {"bearing": bearing, "name": m.name, "dt": m.dt,
                       "acceleration": m.acceleration, "criteria": list(settings.criteria),
@@ -162,7 +174,7 @@ def _rigid_tasks(motions, settings: Settings, out: Path):
 
 
 def _collect_rigid(tasks, index, results, settings) -> dict:
-    out_by_pressure = {p: PressureResults(DFPBearing(pressure=p)) for p in settings.pressures}
+    out_by_pressure = {p: PressureResults(settings.bearing_at(p)) for p in settings.pressures}
     for task in tasks:
         r = out_by_pressure[index[task.key][0]]
         data = results[task.key]
@@ -222,7 +234,7 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
         pressure, i = index[task.key]
         owners.append((pressure, i))
         yielding = {s: _critical_from_json(c) for s, c in result.get("yielding", {}).items()}
-        return searches.add(DFPBearing(pressure=pressure), motions[i],
+        return searches.add(settings.bearing_at(pressure), motions[i],
                             _critical_from_json(result["actual"]), yielding=yielding)
 
     with ResultStore(out / "results.sqlite") as store:

@@ -5,10 +5,11 @@ ones with the runs they have made; the rigid critical SA with rigid and with yie
 beside them.
 
 Run: ``python -m validation.studies.fem_validation_status [--out docs/fem-validation]
-[--limit-state hinge]`` with the settings of the run (those of ``dfp validate`` without
-``--quick``: the FEMA P695 near-field pulse set, 60 and 10 MPa, coarse mesh, 0.005 s steps,
-finite deformation); writes ``OUT/status.csv`` and prints a summary. A setting that differs
-from the run's finds nothing stored: the keys include every setting.
+[--limit-state hinge] [--rim-thickness MM]`` with the settings of the run (those of
+``dfp validate`` without ``--quick``: the FEMA P695 near-field pulse set, 60 and 10 MPa,
+coarse mesh, 0.005 s steps, finite deformation); writes ``OUT/status.csv`` and prints a
+summary. A setting that differs from the run's finds nothing stored: the keys include every
+setting.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid import DFPBearing, G, fema_p695
+from rigid import G, fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore
 from validation.fem_search import FESearches, FESettings
@@ -27,8 +28,17 @@ from validation.run import Settings, _critical_from_json, _rigid_tasks
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def replay(out: Path, settings: Settings, motions) -> list[dict]:
-    """One row per (pressure, record, limit state): the stored answers so far."""
+def run_settings(limit_states=("hinge",), rim_thickness_mm=None) -> Settings:
+    """The settings of ``dfp validate`` without ``--quick`` (FE steps 0.005 s), with
+    ``--rim-thickness`` when given."""
+    bearing = () if rim_thickness_mm is None else (("rim_thickness", rim_thickness_mm / 1e3),)
+    return Settings(fem=FESettings(max_step=0.005, limit_states=tuple(limit_states)),
+                    rims=("rigid", "yielding"), bearing=bearing)
+
+
+def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list, dict]:
+    """The run's FE searches replayed from its store: the searches, their owners (pressure,
+    record index) in the searches' order, and the rigid-record results by owner."""
     tasks, index = _rigid_tasks(motions, settings, out)
     searches = FESearches(settings.fem, step=settings.step, start=settings.step,
                           stop=settings.stop)
@@ -41,7 +51,7 @@ def replay(out: Path, settings: Settings, motions) -> list[dict]:
                 continue
             rigid[pressure, i] = result
             yielding = {s: _critical_from_json(c) for s, c in result["yielding"].items()}
-            pending = list(searches.add(DFPBearing(pressure=pressure), motions[i],
+            pending = list(searches.add(settings.bearing_at(pressure), motions[i],
                                         _critical_from_json(result["actual"]), yielding))
             owners.append((pressure, i))
             while pending:
@@ -49,6 +59,12 @@ def replay(out: Path, settings: Settings, motions) -> list[dict]:
                 stored = store.get(task.key)
                 if stored is not None:
                     pending += searches.follow_up(task, stored)
+    return searches, owners, rigid
+
+
+def replay(out: Path, settings: Settings, motions) -> list[dict]:
+    """One row per (pressure, record, limit state): the stored answers so far."""
+    searches, owners, _ = replayed(out, settings, motions)
     found = searches.results()
     per = len(settings.fem.limit_states)
     rows = []
@@ -72,11 +88,10 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--out", type=Path, default=ROOT / "docs/fem-validation")
     p.add_argument("--limit-state", nargs="+", default=["hinge"])
+    p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
-    fem = FESettings(max_step=0.005, limit_states=tuple(args.limit_state))
-    settings = Settings(fem=fem, rims=("rigid", "yielding"))
-    rows = replay(args.out, settings, motions)
+    rows = replay(args.out, run_settings(args.limit_state, args.rim_thickness), motions)
     write_csv(rows, args.out / "status.csv")
     done = [r for r in rows if r["finished"]]
     print(f"{len(rows)} searches started, {len(done)} finished of "

@@ -1,0 +1,94 @@
+"""The FE runs' end trimming checked by the FE model itself: for the searches of a validation
+run that found an answer, the highest surviving rung below it (the run whose verdict a
+trimmed end could have changed; failing runs are identical up to their failure) is run again
+untrimmed, the record plus the free time (``trim="none"``), and the two verdicts compared.
+The cases taken are the ones whose trimmed run stopped earliest before the record's end plus
+the free time.
+
+Run: ``python -m validation.studies.fem_trimming_check [--out docs/fem-validation]
+[--cases 6] [--workers 2]``; the untrimmed runs are stored tasks in
+``docs/results/fem_trimming_check/results.sqlite`` (resumable), the table goes to
+``docs/results/fem_trimming_check.csv``. The rigid model's check of the same trimming on all
+56 cases is ``validation.studies.trimming_check``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from rigid import G, fema_p695
+from rigid.collapse.comparison import write_csv
+from rigid.tasks import ResultStore, Task, run_tasks, task_key
+from validation.fem_runs import fem_run
+from validation.fem_search import failed_under
+from validation.studies.fem_validation_status import ROOT, replayed, run_settings
+
+
+def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None) -> list[dict]:
+    """Every finished search's highest surviving run below its answer: the search's record,
+    pressure, SA [m/s²], the trimmed run's result and the run's keyword arguments."""
+    settings = run_settings((limit_state,), rim_thickness_mm)
+    searches, owners, _ = replayed(out, settings, motions)
+    found = searches.results()
+    rows = []
+    for k, r in enumerate(found):
+        if not searches.searches[k].done or r.sa is None or r.survived_below is None:
+            continue
+        probe = next(p for p in r.probes if abs(p["sa"] - r.survived_below) < 1e-9)
+        j = round((probe["sa"] - searches.start) / searches.step)
+        _, kwargs = searches._key(k // len(searches.limit_states), j)
+        pressure, i = owners[k // len(searches.limit_states)]
+        rows.append({"record": motions[i], "pressure": pressure, "sa": probe["sa"],
+                     "trimmed": probe, "kwargs": kwargs, "models": searches.models})
+    return rows
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--out", type=Path, default=ROOT / "docs/fem-validation",
+                   help="the validation run's folder (its results.sqlite)")
+    p.add_argument("--limit-state", default="hinge")
+    p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
+    p.add_argument("--cases", type=int, default=6)
+    p.add_argument("--workers", type=int, default=None)
+    args = p.parse_args()
+    motions = fema_p695("nearfield_pulse")
+    rows = surviving_runs(args.out, args.limit_state, motions, args.rim_thickness)
+    for r in rows:
+        m = r["record"]
+        r["cut_s"] = (m.npts - 1) * m.dt + r["kwargs"]["free"] - r["trimmed"]["end"]
+    rows = sorted(rows, key=lambda r: -r["cut_s"])[:args.cases]
+    tasks = []
+    for r in rows:
+        kwargs = {**r["kwargs"], "trim": "none"}
+        key = task_key("fem-run", r["models"], runner=None, **kwargs)
+        r["key"] = key
+        tasks.append(Task(key, "fem-run", fem_run, kwargs))
+    folder = ROOT / "docs/results/fem_trimming_check"
+    folder.mkdir(parents=True, exist_ok=True)
+    with ResultStore(folder / "results.sqlite") as store:
+        results = run_tasks(tasks, store, workers=args.workers, description="untrimmed FE runs",
+                            log=folder / "progress.log")
+    table = []
+    for r in rows:
+        full, trimmed = results[r["key"]], r["trimmed"]
+        table.append({
+            "record": r["record"].name, "pressure_mpa": r["pressure"] / 1e6,
+            "limit_state": args.limit_state, "sa_g": r["sa"] / G,
+            "trimmed_end_s": trimmed["end"], "untrimmed_end_s": full["end"],
+            "trimmed_failed": bool(trimmed["failed"]),
+            "untrimmed_failed": failed_under(full, args.limit_state),
+            "untrimmed_failure_mode": full["failure_mode"] or "none",
+            "trimmed_max_rim_force_mn": trimmed["max_rim_force"] / 1e6,
+            "untrimmed_max_rim_force_mn": full["max_rim_force"] / 1e6,
+            "trimmed_cpu_s": trimmed["cpu_seconds"], "untrimmed_cpu_s": full["cpu_seconds"],
+        })
+    path = ROOT / "docs/results/fem_trimming_check.csv"
+    write_csv(table, path)
+    same = sum(t["trimmed_failed"] == t["untrimmed_failed"] for t in table)
+    print(f"the same verdict on {same} of {len(table)} surviving runs; {path}")
+
+
+if __name__ == "__main__":
+    main()
