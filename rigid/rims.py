@@ -19,8 +19,9 @@ from .bearing import DFPBearing
 __all__ = ["RimLaw", "rim_law", "rim_law_from_push"]
 
 #: The push (fem.rim_pushover): to 1.5 mm in 60 increments of 0.025 mm, which resolve the
-#: bend from the elastic line to the hinge (about 0.1–0.6 mm for the baseline rim), then to
-#: half the rim height in the default 40 increments.
+#: bend from the elastic line to the hinge (about 0.1–0.6 mm for the baseline rim; a stiffer
+#: rim that has not hinged by then is pushed twice as far, in increments of the same size,
+#: until it has), then to half the rim height in the default 40 increments.
 FINE_PUSH = (1.5e-3, 60)
 #: Elastic push [m]: a tenth of a millimetre, in two increments, with elastic steel.
 ELASTIC_PUSH = 1e-4
@@ -94,7 +95,9 @@ def rim_law_from_push(bearing: DFPBearing, stiffness: float, fine, full) -> RimL
     (:class:`fem.pushover.Pushover`): ``fine`` to the hinge and a little beyond, ``full`` to
     half the rim height (Eq. R56)."""
     if fine.hinge_displacement is None:
-        raise ValueError("the fine push did not reach the hinge: push further")
+        reach = fine.displacement[-1] * 1e3
+        raise ValueError(f"the rim did not hinge within a push of {reach:.3g} mm; the "
+                         "yielding-rim law needs a rim that hinges before half its height")
     keep = full.displacement > fine.displacement[-1] * (1 + 1e-9)
     d = np.concatenate([fine.displacement, full.displacement[keep]])
     f = np.concatenate([fine.force, full.force[keep]])
@@ -169,7 +172,11 @@ def rim_law(bearing: DFPBearing, *, cache: bool = True) -> RimLaw:
 
     elastic = rim_pushover(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
     stiffness = float(elastic.force[-1] / elastic.displacement[-1])
-    fine = rim_pushover(bearing, displacement=FINE_PUSH[0], steps=FINE_PUSH[1])
+    reach, steps = FINE_PUSH
+    fine = rim_pushover(bearing, displacement=reach, steps=steps)
+    while fine.hinge_displacement is None and 2 * reach <= bearing.rim_height / 2:
+        reach, steps = 2 * reach, 2 * steps
+        fine = rim_pushover(bearing, displacement=reach, steps=steps)
     full = rim_pushover(bearing)
     law = rim_law_from_push(bearing, stiffness, fine, full)
     if cache:

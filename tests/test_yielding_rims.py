@@ -136,3 +136,42 @@ def test_critical_sa_orders_the_limit_states(law, monkeypatch):
     assert found["hinge"].sa <= found["rupture"].sa <= found["containment"].sa
     assert {c.rims for c in found.values()} == {"yielding"}
     assert found["rupture"].failure_criterion == "rupture"
+
+
+def test_a_stiff_rim_is_pushed_until_it_hinges(monkeypatch, tmp_path):
+    """A rim that has not hinged at the end of the 1.5 mm fine push (the 80 mm rim of the
+    stronger-rim variant hinges at about 5 mm) gets fine pushes twice as long, with
+    increments of the same size, until it has; one that never does before half its height
+    is refused with the reach in the message. A stand-in push hinges at ``hinge`` [m] and
+    records each request, so no FE runs here; the baseline's push is unchanged (the module's
+    fixture runs it)."""
+    import fem
+    from fem.pushover import Pushover
+
+    requests = []
+
+    def push(bearing, *, displacement=None, steps=40, plasticity=True, **_):
+        d = bearing.rim_height / 2 if displacement is None else displacement
+        requests.append((d, steps, plasticity))
+        x = np.linspace(0.0, d, steps + 1)
+        f = 1e9 * np.minimum(x, 0.004) + 1e7 * np.maximum(x - 0.004, 0.0)
+        hinged = plasticity and d >= hinge
+        return Pushover(displacement=x, force=f, yielded_fraction=np.zeros_like(x),
+                        hinge_displacement=hinge if hinged else None,
+                        hinge_force=float(np.interp(hinge, x, f)) if hinged else None,
+                        max_plastic_strain=np.zeros_like(x),
+                        averaged_plastic_strain=np.linspace(0.0, 0.5, x.size),
+                        kinematics="finite", dofs=0, plate=None, final_displacement=None,
+                        final_plastic_strain=None)
+
+    monkeypatch.setattr(fem, "rim_pushover", push)
+    bearing = DFPBearing(pressure=60e6, rim_thickness=0.08)
+    hinge = 0.005
+    law = rim_law(bearing, cache=False)
+    fine = [(d, n) for d, n, plastic in requests if plastic and d < bearing.rim_height / 2]
+    assert fine == [(1.5e-3, 60), (3e-3, 120), (6e-3, 240)]  # 0.025 mm increments throughout
+    assert law.hinge_displacement == hinge
+    requests.clear()
+    hinge = 1.0  # never within the push
+    with pytest.raises(ValueError, match="did not hinge within a push of 12 mm"):
+        rim_law(bearing, cache=False)

@@ -445,8 +445,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--search", choices=("fast", "full"), default="fast",
                    help="ladder search (default fast: 0.1 g steps, then 0.01 g)")
     p.add_argument("--fem", action=argparse.BooleanOptionalAction, default=True,
-                   help="FE critical SA around the rigid one (default on; costly: minutes "
-                   "per FE run, about 8 runs per record)")
+                   help="FE critical SA around the rigid one (default on; seconds to minutes "
+                   "per FE run; about 2 runs per record and limit state when started from the "
+                   "yielding rims, about 8 from rigid rims)")
     p.add_argument("--fem-mesh", choices=("coarse", "default"), default="coarse",
                    help="FE mesh: coarse (905 dofs, default) or default (4301 dofs, ~10x "
                    "slower)")
