@@ -153,6 +153,11 @@ def test_time_left_counts_the_follow_ups_expected():
     assert "about 12 min left" in line
     assert tally._work({"ladder": 10.0, "fem": 60.0}, 35.0) == pytest.approx(
         {"ladder": 250.0, "fem": 120.0}, rel=1e-12)
+    # a resumed run: the fem runs so far were all read from the store, so a ladder's expected
+    # work is its own 10 s (W_f = 0 · 60 / (1 − 0.5) = 0)
+    tally.ran["fem"] = 0
+    assert tally._work({"ladder": 10.0, "fem": 60.0}, 35.0) == pytest.approx(
+        {"ladder": 10.0, "fem": 0.0}, abs=1e-12)
     # a chain that has always gone on (1 follow-up per run): no finite answer, the run's own
     # mean only
     always = Progress(1)

@@ -134,23 +134,26 @@ class Progress:
     are expected to bring (a search's next runs), at the rates seen so far; appended to a log
     file when one is given.
 
-    Each finished task of kind A has brought r_AB follow-ups of kind B on average, so the
-    expected work of one task of kind A, its follow-ups included, solves
-    W_A = m_A + Σ_B r_AB W_B (m: mean seconds per run of each kind), i.e. W = (I − R)⁻¹ m;
-    where that has no finite positive solution (a chain that has so far always gone on) only
-    the known queue counts."""
+    Each finished task of kind A has brought r_AB follow-ups of kind B on average and has run
+    (rather than been read from the store) with frequency s_A, so the expected work of one
+    task of kind A, its follow-ups included, solves W_A = s_A m_A + Σ_B r_AB W_B (m: mean
+    seconds per run of each kind), i.e. W = (I − R)⁻¹ (s m); where that has no finite
+    positive solution (a chain that has so far always gone on) only the known queue counts."""
 
     def __init__(self, capacity: int, log=None):
         self.capacity = max(1, int(capacity))
         self.log = None if log is None else Path(log)
         self.seconds: dict = {}
         self.finished: dict = {}   # kind → tasks finished (run or read from the store)
+        self.ran: dict = {}        # kind → tasks run
         self.children: dict = {}   # (kind, follow-up kind) → follow-ups brought
         self.started = time.time()
 
-    def spawned(self, kind: str, follow_ups) -> None:
-        """Enter the follow-ups a finished task of ``kind`` brought (stored results too)."""
+    def spawned(self, kind: str, follow_ups, ran: bool = True) -> None:
+        """Enter the follow-ups a finished task of ``kind`` brought, and whether it ran (False:
+        its result was read from the store)."""
         self.finished[kind] = self.finished.get(kind, 0) + 1
+        self.ran[kind] = self.ran.get(kind, 0) + bool(ran)
         for t in follow_ups:
             self.children[kind, t.kind] = self.children.get((kind, t.kind), 0) + 1
 
@@ -159,7 +162,9 @@ class Progress:
         import numpy as np
 
         kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
-        m = np.array([mean.get(k, default) for k in kinds])
+        m = np.array([mean.get(k, default) * (self.ran.get(k, 0) / self.finished[k]
+                                               if self.finished.get(k) else 1.0)
+                      for k in kinds])
         r = np.array([[self.children.get((a, b), 0) / self.finished[a] if self.finished.get(a)
                        else 0.0 for b in kinds] for a in kinds])
         try:
@@ -178,7 +183,9 @@ class Progress:
         mean = {k: sum(v) / len(v) for k, v in self.seconds.items()}
         work = self._work(mean, sum(every) / len(every))
         left = sum(work[t.kind] if t.kind in work else sum(every) / len(every) for t in queue)
-        left = (left + running * (work[kind] - mean[kind] / 2)) / self.capacity
+        # a running task runs: half its mean is left, and its follow-ups' share of W
+        share = self.ran.get(kind, 0) / self.finished[kind] if self.finished.get(kind) else 1.0
+        left = (left + running * (mean[kind] / 2 + work[kind] - share * mean[kind])) / self.capacity
         line = (f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {done} run, {running} running, "
                 f"{len(queue)} queued; {kind} {seconds:.0f} s (mean {mean[kind]:.0f} s); "
                 f"about {_duration(left)} left with the follow-ups expected, "
@@ -260,7 +267,7 @@ def run_tasks(
     def finish(task, result, seconds=None):
         results[task.key] = result
         new = list(follow_up(task, result)) if follow_up else []
-        tally.spawned(task.kind, new)
+        tally.spawned(task.kind, new, ran=seconds is not None)
         queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
         bar.total += sum(t.size for t in new)
         bar.update(task.size)
