@@ -434,7 +434,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"a short run: the first component of the first {QUICK_RECORDS} "
                    "records, criteria 3 and 4, FE critical SA for the shortest record at the "
                    f"first pressure on the coarse mesh with {QUICK_FEM_STEP:g} s steps "
-                   "(about 10 minutes on 2 cores)")
+                   "(about 2 minutes on 2 cores)")
     p.add_argument("--records", type=_positive(int), help="use only the first N components")
     p.add_argument("--pressure", type=_PRESSURE, nargs="+", default=[60.0, 10.0],
                    help="slider pressures [MPa], 1-200 (default 60 10)")
