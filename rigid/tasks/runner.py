@@ -180,9 +180,10 @@ class Progress:
         self.seconds.setdefault(kind, []).append(float(seconds))
         done = sum(len(v) for v in self.seconds.values())
         every = [x for v in self.seconds.values() for x in v]
+        overall = sum(every) / len(every)  # for kinds not timed yet
         mean = {k: sum(v) / len(v) for k, v in self.seconds.items()}
-        work = self._work(mean, sum(every) / len(every))
-        left = sum(work[t.kind] if t.kind in work else sum(every) / len(every) for t in queue)
+        work = self._work(mean, overall)
+        left = sum(work.get(t.kind, overall) for t in queue)
         # a running task runs: half its mean is left, and its follow-ups' share of W
         share = self.ran.get(kind, 0) / self.finished[kind] if self.finished.get(kind) else 1.0
         left = (left + running * (mean[kind] / 2 + work[kind] - share * mean[kind])) / self.capacity

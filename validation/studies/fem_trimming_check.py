@@ -29,7 +29,7 @@ def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None) 
     """Every finished search's highest surviving run below its answer: the search's record,
     pressure, SA [m/s²], the trimmed run's result and the run's keyword arguments."""
     settings = run_settings((limit_state,), rim_thickness_mm)
-    searches, owners, _ = replayed(out, settings, motions)
+    searches, owners = replayed(out, settings, motions)
     found = searches.results()
     rows = []
     for k, r in enumerate(found):

@@ -17,11 +17,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from rigid import G, fema_p695
+from rigid import fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore
 from validation.fem_search import FESearches, FESettings
-from validation.report.write import fem_statistics
+from validation.report.write import fem_rows, fem_statistics
 from validation.run import Settings, _critical_from_json, _rigid_tasks
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -35,20 +35,19 @@ def run_settings(limit_states=("hinge",), rim_thickness_mm=None) -> Settings:
                     rims=("rigid", "yielding"), bearing=bearing)
 
 
-def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list, dict]:
-    """The run's FE searches replayed from its store: the searches, their owners (pressure,
-    record index) in the searches' order, and the rigid-record results by owner."""
+def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
+    """The run's FE searches replayed from its store: the searches and their owners
+    (pressure, record index), one per record in the order the searches were added."""
     tasks, index = _rigid_tasks(motions, settings, out)
     searches = FESearches(settings.fem, step=settings.step, start=settings.step,
                           stop=settings.stop)
-    owners, rigid = [], {}
+    owners = []
     with ResultStore(out / "results.sqlite") as store:
         for task in tasks:
             pressure, i = index[task.key]
             result = store.get(task.key)
             if result is None:
                 continue
-            rigid[pressure, i] = result
             yielding = {s: _critical_from_json(c) for s, c in result["yielding"].items()}
             pending = list(searches.add(settings.bearing_at(pressure), motions[i],
                                         _critical_from_json(result["actual"]), yielding))
@@ -58,35 +57,18 @@ def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list, 
                 stored = store.get(task.key)
                 if stored is not None:
                     pending += searches.follow_up(task, stored)
-    return searches, owners, rigid
+    return searches, owners
 
 
 def replay(out: Path, settings: Settings, motions) -> list[dict]:
-    """One row per (pressure, record, limit state): the stored answers so far."""
-    searches, owners, _ = replayed(out, settings, motions)
-    found = searches.results()
+    """One row per (pressure, record, limit state): the report's FE comparison row
+    (:func:`validation.report.write.fem_rows`) of the stored answers so far, and whether the
+    search has finished."""
+    searches, owners = replayed(out, settings, motions)
     per = len(settings.fem.limit_states)
-    rows = []
-    for k, (pressure, i) in enumerate(owners):
-        for search, r in zip(searches.searches[k * per:(k + 1) * per],
-                             found[k * per:(k + 1) * per], strict=True):
-            rows.append({
-                "record": motions[i].name, "pressure_mpa": pressure / 1e6,
-                "limit_state": r.limit_state, "finished": search.done,
-                "rigid_sa_g": None if r.rigid_sa is None else r.rigid_sa / G,
-                "yielding_sa_g": None if r.yielding_sa is None else r.yielding_sa / G,
-                "fem_sa_g": None if r.sa is None else r.sa / G,
-                "fem_over_rigid": _ratio(r.sa, r.rigid_sa),
-                "fem_over_yielding": _ratio(r.sa, r.yielding_sa),
-                "fem_failure_mode": r.failure_mode, "fem_runs": r.runs,
-                "numerical_runs": r.numerical_runs, "uncertain": r.uncertain,
-                "fem_cpu_min": r.cpu_seconds / 60,
-            })
-    return rows
-
-
-def _ratio(a, b):
-    return None if a is None or b is None else a / b
+    return [{"finished": search.done, **fem_rows({owners[k // per][0]: [r]})[0]}
+            for k, (search, r) in enumerate(zip(searches.searches, searches.results(),
+                                                strict=True))]
 
 
 def main() -> None:

@@ -17,38 +17,34 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid import DFPBearing, G, fema_p695, simulate
+from rigid import DFPBearing, G, fema_p695, scale_factor, simulate
 from rigid.collapse.comparison import write_csv
-from rigid.motions.spectra import pseudo_acceleration
 
 ROOT = Path(__file__).resolve().parents[2]
-PERIOD = 4.5  # s, the ladder's SA period (the bearing's, paper §4.2)
 FREE = 20.0   # s simulated after the record, as the ladders
 
 
-def impact_velocity(bearing, motion, sa: float) -> float:
-    """Largest rim impact velocity [m/s] of the record scaled to SA(4.5 s) = ``sa`` [m/s²]
-    (0 without impact)."""
-    a = np.asarray(motion.acceleration)
-    scale = sa / float(pseudo_acceleration(a, motion.dt, [PERIOD])[0])
-    r = simulate(bearing, a * scale, motion.dt, duration=(a.size - 1) * motion.dt + FREE,
-                 stop_at_failure=True, stop_when_quiet=True, record_every=a.size,
-                 on_instability="refine")
-    return float(r.max_impact_velocity) if len(r.impacts) else 0.0
-
-
 def first_impact_rung(bearing, motion, start: int) -> tuple[int, float]:
-    """(k, v): the lowest rung k (SA = k × 0.01 g) with a rim impact, searched from ``start``,
-    and its impact velocity [m/s]."""
+    """(k, v): the lowest rung k (SA(Tb) = k × 0.01 g) with a rim impact, searched from
+    ``start``, and its largest impact velocity [m/s]."""
+    a = np.asarray(motion.acceleration)
+    per_sa = scale_factor(a, motion.dt, 1.0, period=bearing.design_period)  # PSA is linear
+
+    def impact_velocity(k):  # 0 without impact
+        r = simulate(bearing, a * (k * 0.01 * G * per_sa), motion.dt,
+                     duration=(a.size - 1) * motion.dt + FREE, stop_at_failure=True,
+                     stop_when_quiet=True, record_every=a.size, on_instability="refine")
+        return float(r.max_impact_velocity) if len(r.impacts) else 0.0
+
     k = start
-    v = impact_velocity(bearing, motion, k * 0.01 * G)
+    v = impact_velocity(k)
     if v == 0.0:
         while v == 0.0:
             k += 1
-            v = impact_velocity(bearing, motion, k * 0.01 * G)
+            v = impact_velocity(k)
         return k, v
     while k > 1:
-        below = impact_velocity(bearing, motion, (k - 1) * 0.01 * G)
+        below = impact_velocity(k - 1)
         if below == 0.0:
             break
         k, v = k - 1, below
