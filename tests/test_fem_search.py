@@ -11,7 +11,7 @@ import rigid
 from rigid import DFPBearing, G
 from rigid.collapse.trimming import critical_sa_trimmed, sliding_threshold, strong_motion_window
 from rigid.tasks.store import ResultStore
-from validation.fem_search import BracketBisect, FESettings, run_fem_searches
+from validation.fem_search import BracketBisect, FESettings, decides, run_fem_searches
 
 
 def _drive(search, threshold):
@@ -207,6 +207,60 @@ def test_searches_per_limit_state_share_their_runs(tmp_path):
     assert containment.numerical_runs == 1 and containment.uncertain
     assert containment.sa == pytest.approx(oracle("containment") - STEP, abs=1e-12)
     assert hinge.sa == pytest.approx(oracle("hinge"), abs=1e-12) and not hinge.uncertain
+
+
+def test_a_study_extended_to_later_limit_states_reuses_its_stored_runs(tmp_path):
+    """A hinge study, then the same store asked for hinge, rupture and containment (the runs'
+    criterion becomes containment, a new key): the hinge searches replay from the hinge runs
+    (the same probes, no runner call on their rungs), a hinge run that survived answers the
+    later limit states too, and one that hinged does not (it stopped before them). The
+    answers are the brute-force threshold rungs, as from a fresh store."""
+    targets = _targets()[:2]
+    store = ResultStore(tmp_path / "s.sqlite")
+    CALLS.clear()
+    hinge_only, = run_fem_searches(targets[:1], FESettings(limit_states=("hinge",)), store,
+                                   step=STEP, start=STEP, stop=STOP,
+                                   runner=limit_state_runner, workers=1, progress=False)[:1]
+    hinge_runs = {round(p["scale"], 12): p["failed"] for p in hinge_only.probes}
+    all_three = FESettings(limit_states=("hinge", "rupture", "containment"))
+    CALLS.clear()
+    found = run_fem_searches(targets, all_three, store, step=STEP, start=STEP, stop=STOP,
+                             runner=limit_state_runner, workers=1, progress=False)
+    called = {round(x, 12) for x in CALLS}
+    assert [p["scale"] for p in found[0].probes] == [p["scale"] for p in hinge_only.probes]
+    assert not called & {s for s, failed in hinge_runs.items() if not failed}
+    reused = [p for f in found[1:3] for p in f.probes if round(p["scale"], 12) in hinge_runs]
+    assert reused, "the later searches probed no rung of the hinge study: the test is void"
+    assert all(not hinge_runs[round(p["scale"], 12)] or round(p["scale"], 12) in called
+               for p in reused)
+
+    fresh = run_fem_searches(targets, all_three, ResultStore(tmp_path / "fresh.sqlite"),
+                             step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
+                             workers=1, progress=False)
+    assert [f.sa for f in found] == [f.sa for f in fresh]
+    for (_, motion, crit), f in zip([t for t in targets for _ in range(3)], found,
+                                    strict=True):
+        pga = np.max(np.abs(motion.acceleration)) / crit.record_sa
+        assert f.sa is not None and f.sa * pga >= STATE_PGA[f.limit_state]
+        assert (f.sa - STEP) * pga < STATE_PGA[f.limit_state]
+
+
+@pytest.mark.parametrize(("criterion", "times", "numerical", "answers"), [
+    ("hinge", {"hinge": None, "rupture": None, "containment": None}, False,
+     {"hinge", "rupture", "containment"}),                      # ran to its end
+    ("hinge", {"hinge": 3.0, "rupture": None, "containment": None}, False, {"hinge"}),
+    ("hinge", {"hinge": 3.0, "rupture": 3.0, "containment": None}, False,
+     {"hinge", "rupture"}),                                     # both at the stop
+    ("rupture", {"hinge": None, "rupture": None, "containment": 5.0}, False,
+     {"hinge", "rupture", "containment"}),                      # lost containment: all fail
+    ("hinge", {"hinge": None, "rupture": None, "containment": None}, True, {"hinge"}),
+    ("containment", None, False, {"hinge", "rupture", "containment"}),
+    ("hinge", None, False, {"hinge"}),                          # a stand-in without states
+])
+def test_which_limit_states_a_stored_run_answers(criterion, times, numerical, answers):
+    result = {"limit_states": times, "numerical_failure": numerical}
+    assert {s for s in ("hinge", "rupture", "containment")
+            if decides(result, criterion, s)} == answers
 
 
 def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):

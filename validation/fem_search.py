@@ -17,8 +17,8 @@ from rigid.tasks import ResultStore, Task, run_tasks, task_key
 
 from .fem_runs import MESHES, fem_run
 
-__all__ = ["BracketBisect", "FECritical", "FESearches", "FESettings", "failed_under",
-           "run_criterion", "run_fem_searches"]
+__all__ = ["BracketBisect", "FECritical", "FESearches", "FESettings", "decides",
+           "failed_under", "run_criterion", "run_fem_searches"]
 
 
 class BracketBisect:
@@ -151,6 +151,22 @@ def failed_under(result: dict, limit_state: str) -> bool | None:
     return times.get(limit_state) is not None or times.get("containment") is not None
 
 
+def decides(result: dict, criterion: str, limit_state: str) -> bool:
+    """Whether a stored FE run that stopped at ``criterion`` answers ``limit_state``: a run
+    records every limit state it reaches, so it answers the limit states up to its criterion
+    (:data:`fem.limit_states.LIMIT_STATES` order: the hinge, then the rupture, then the loss
+    of containment), any it reached, and all of them when it ran to its end without reaching
+    its criterion. A numerical failure answers only up to the criterion. Runs without
+    ``limit_states`` (stand-in runners) answer only their own criterion."""
+    times = result.get("limit_states")
+    if LIMIT_STATES.index(limit_state) <= LIMIT_STATES.index(criterion):
+        return True
+    if times is None or result.get("numerical_failure"):
+        return False
+    stopped = times.get(criterion) is not None or times.get("containment") is not None
+    return times.get(limit_state) is not None or not stopped
+
+
 @dataclass
 class FECritical:
     """FE critical SA of one record at one pressure under one limit state, and the runs that
@@ -246,13 +262,20 @@ class FESearches:
     models : tuple of str
         The models whose code keys the stored runs (:data:`rigid.tasks.cache.MODEL_CODE`);
         default those :func:`fem_run` runs.
+    stored : callable, optional
+        ``stored(key)`` → a stored result or None (:meth:`ResultStore.get`). With it, a rung
+        already run to another limit state is reused when that run answers the search's limit
+        state (:func:`decides`): adding the rupture to a study stored for the hinge replays
+        the hinge searches and reruns only what the rupture needs.
     """
 
     kind = "fem-run"
 
     def __init__(self, settings: FESettings, *, step: float, start: float, stop: float,
-                 runner=fem_run, models=("rigid", "collapse", "fem", "fem-run")):
+                 runner=fem_run, models=("rigid", "collapse", "fem", "fem-run"),
+                 stored=None):
         self.step, self.start = float(step), float(start)
+        self.stored = stored
         self.highest = math.floor((stop - start) / step + 1e-9)
         self.runner, self.models = runner, tuple(models)
         # a stand-in runner (tests) is keyed by its name; fem_run by the code of the models
@@ -265,13 +288,30 @@ class FESearches:
         self.waiting: dict = {}    # task key → searches waiting for its result
         self.outcomes: dict = {}   # task key → result
 
-    def _key(self, i, j) -> tuple:
+    def _key(self, i, j, criterion=None) -> tuple:
         bearing, motion, rigid_crit = self.targets[i]
         scale = (self.start + j * self.step) / rigid_crit.record_sa
         kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
                   "dt": motion.dt, "scale": scale, **self.options}
+        if criterion is not None:
+            kwargs["criterion"] = criterion
         key = task_key(self.kind, self.models, runner=self.runner_name, **kwargs)
         return key, kwargs
+
+    def _reusable(self, k, i, j) -> str | None:
+        """Key of a stored run of rung j to another criterion that answers search k, or
+        None. It joins the outcomes (it is never run, so never a duplicate)."""
+        if self.stored is None:
+            return None
+        for criterion in LIMIT_STATES:
+            if criterion == self.options["criterion"]:
+                continue
+            key, _ = self._key(i, j, criterion)
+            result = self.outcomes.get(key) or self.stored(key)
+            if result is not None and decides(result, criterion, self.found[k].limit_state):
+                self.outcomes[key] = result
+                return key
+        return None
 
     def _advance(self, k) -> list:
         """Ask for search k's next rung: new tasks to run (none if its run is already known or
@@ -283,6 +323,8 @@ class FESearches:
                 return tasks
             i = k // len(self.limit_states)
             key, kwargs = self._key(i, j)
+            if key not in self.outcomes:
+                key = self._reusable(k, i, j) or key
             if key in self.outcomes:
                 self._record(k, j, key)
                 continue
@@ -367,7 +409,8 @@ def run_fem_searches(targets, settings: FESettings, store: ResultStore, *, step:
     -------
     list of FECritical, by target in the order of ``targets``, then by limit state.
     """
-    searches = FESearches(settings, step=step, start=start, stop=stop, runner=runner)
+    searches = FESearches(settings, step=step, start=start, stop=stop, runner=runner,
+                          stored=store.get)
     first = [task for t in targets for task in searches.add(*t)]
     run_tasks(first, store, follow_up=searches.follow_up, scheduler=scheduler,
               workers=workers, progress=progress, description="FE critical SA")

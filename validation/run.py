@@ -221,10 +221,7 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
         targets = {(p, i) for p in (settings.fem_pressures or settings.pressures)
                    for i in settings.fem_record_indices(motions)}
     first = sorted(tasks, key=lambda t: index[t.key] not in targets)  # stable
-    searches = None if settings.fem is None else FESearches(
-        settings.fem, step=settings.step, start=settings.step, stop=settings.stop,
-        **({} if fem_runner is None else {"runner": fem_runner}))
-    owners = []
+    owners, searches = [], None
 
     def follow_up(task, result):
         if task.kind != "rigid-record":
@@ -238,6 +235,10 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
                             _critical_from_json(result["actual"]), yielding=yielding)
 
     with ResultStore(out / "results.sqlite") as store:
+        if settings.fem is not None:
+            searches = FESearches(settings.fem, step=settings.step, start=settings.step,
+                                  stop=settings.stop, stored=store.get,
+                                  **({} if fem_runner is None else {"runner": fem_runner}))
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
                             workers=workers, progress=progress,
                             description="rigid ladders and FE runs", log=out / "progress.log")

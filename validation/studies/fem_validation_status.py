@@ -39,10 +39,10 @@ def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
     """The run's FE searches replayed from its store: the searches and their owners
     (pressure, record index), one per record in the order the searches were added."""
     tasks, index = _rigid_tasks(motions, settings, out)
-    searches = FESearches(settings.fem, step=settings.step, start=settings.step,
-                          stop=settings.stop)
     owners = []
     with ResultStore(out / "results.sqlite") as store:
+        searches = FESearches(settings.fem, step=settings.step, start=settings.step,
+                              stop=settings.stop, stored=store.get)
         for task in tasks:
             pressure, i = index[task.key]
             result = store.get(task.key)
