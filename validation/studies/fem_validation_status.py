@@ -82,8 +82,8 @@ def main() -> None:
     write_csv(rows, args.out / "status.csv")
     done = [r for r in rows if r["finished"]]
     print(f"{len(rows)} searches started, {len(done)} finished of "
-          f"{2 * len(motions) * len(args.limit_state)}; FE runs made: "
-          f"{sum(r['fem_runs'] for r in rows)}")
+          f"{2 * len(motions) * len(args.limit_state)}; FE probes (a run shared by searches "
+          f"counts once per search): {sum(r['fem_runs'] for r in rows)}")
     for s in fem_statistics(done):  # the report's Fig. 4 statistics, on the finished searches
         if s["compared"]:
             print(f"  {s['limit_state']}: FE / rigid model with {s['rigid_model']}: median "
