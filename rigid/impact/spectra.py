@@ -121,9 +121,9 @@ def settings_from_attrs(ds) -> SweepSettings:
     kwargs = {}
     for f in dataclasses.fields(SweepSettings):
         value = ds.attrs.get(f"settings_{f.name}", f.default)
-        if f.name in ("rims", "failure_criterion"):
-            pass
-        elif isinstance(value, str):
+        if f.name in ("rims", "failure_criterion"):  # names, stored as themselves
+            value = str(value)
+        elif isinstance(value, str):  # "default": None
             value = None
         elif f.name == "stop_when_quiet":
             value = bool(value)
