@@ -66,12 +66,11 @@ def push_corner(bearing: DFPBearing, displacement: float, steps: int) -> tuple[f
     root, at the end of a push to ``displacement`` [m] (:func:`fem.rim_pushover`, default
     mesh, finite deformation)."""
     from fem import rim_pushover
+    from fem.limit_states import corner_nodes, root_nodes
 
     push = rim_pushover(bearing, displacement=displacement, steps=steps)
-    x, z = push.plate.mesh.p
-    corner = int(np.argmin(np.hypot(x - bearing.rim_radius, z - bearing.rim_top)))
-    root = int(np.argmin(np.hypot(x - bearing.rim_radius - 0.5 * bearing.rim_thickness,
-                                  z - bearing.dish_depth(bearing.rim_radius))))
+    corner = corner_nodes(push.plate.mesh, bearing)["bottom +x"]
+    root = root_nodes(push.plate.mesh, bearing)["bottom +x"]
     u = push.final_displacement
     return (float(u[2 * corner] - u[2 * root]), float(-(u[2 * corner + 1] - u[2 * root + 1])))
 
