@@ -32,14 +32,26 @@ CASE = {"pressure": 60e6, "tp": 2.0, "kind": "symmetric", "amplitudes_g": (0.40,
 SNAPSHOT_EVERY = 5  # accepted FE steps between snapshots
 
 
+def corner_motion(mesh, bearing: DFPBearing, d, rim: str) -> tuple[float, float]:
+    """(outward, drop) [m] of a rim's inner top corner relative to the middle of its root,
+    for the mesh's displacements ``d`` (outward: away from the bearing's axis; drop: towards
+    the rim's own plate)."""
+    from fem.limit_states import corner_nodes, root_nodes
+    from fem.output import nodal_displacement
+
+    u = nodal_displacement(mesh, d)
+    rel = u[:, corner_nodes(mesh, bearing)[rim]] - u[:, root_nodes(mesh, bearing)[rim]]
+    side = 1.0 if rim.endswith("+x") else -1.0
+    towards_plate = 1.0 if rim.startswith("top") else -1.0
+    return float(side * rel[0]), float(towards_plate * rel[1])
+
+
 def fe_corner_paths(bearing: DFPBearing, tp: float, kind: str, amplitude: float) -> tuple:
     """FE run of the study's pulse at ``amplitude`` [m/s²] to the loss of containment: its
-    limit states and, per rim, rows (t [s], outward [m], drop [m]) of the inner top corner
-    relative to the middle of the rim's root (outward: away from the bearing's axis; drop:
-    towards the rim's own plate)."""
+    result and, per rim, rows (t [s], outward [m], drop [m]) of :func:`corner_motion`."""
     from fem import simulate
     from fem.geometry import COARSE_MESH
-    from fem.limit_states import RIMS, corner_nodes, root_nodes
+    from fem.limit_states import RIMS
 
     from .yielding_rims import pulse_motion
 
@@ -48,31 +60,17 @@ def fe_corner_paths(bearing: DFPBearing, tp: float, kind: str, amplitude: float)
                    mesh_options=COARSE_MESH, max_step=5e-3, impact_step=5e-4,
                    kinematics="finite", failure_criterion="containment",
                    snapshot_every=SNAPSHOT_EVERY)
-    corners, roots = corner_nodes(res.mesh, bearing), root_nodes(res.mesh, bearing)
-    paths = {}
-    for name in RIMS:
-        c, r = corners[name], roots[name]
-        side = 1.0 if name.endswith("+x") else -1.0
-        towards_plate = 1.0 if name.startswith("top") else -1.0
-        # the mesh's displacement dofs are node-wise pairs (x, z)
-        paths[name] = [(t, side * (d[2 * c] - d[2 * r]),
-                        towards_plate * (d[2 * c + 1] - d[2 * r + 1]))
-                       for t, d, _, _ in res.snapshots]
-    return res, paths
+    return res, {name: [(t, *corner_motion(res.mesh, bearing, d, name))
+                        for t, d, _, _ in res.snapshots] for name in RIMS}
 
 
 def push_corner(bearing: DFPBearing, displacement: float, steps: int) -> tuple[float, float]:
-    """(outward, drop) [m] of the pushed rim's inner top corner, relative to the middle of its
-    root, at the end of a push to ``displacement`` [m] (:func:`fem.rim_pushover`, default
-    mesh, finite deformation)."""
+    """:func:`corner_motion` of the pushed rim at the end of a push to ``displacement`` [m]
+    (:func:`fem.rim_pushover`, default mesh, finite deformation)."""
     from fem import rim_pushover
-    from fem.limit_states import corner_nodes, root_nodes
 
     push = rim_pushover(bearing, displacement=displacement, steps=steps)
-    corner = corner_nodes(push.plate.mesh, bearing)["bottom +x"]
-    root = root_nodes(push.plate.mesh, bearing)["bottom +x"]
-    u = push.final_displacement
-    return (float(u[2 * corner] - u[2 * root]), float(-(u[2 * corner + 1] - u[2 * root + 1])))
+    return corner_motion(push.plate.mesh, bearing, push.final_displacement, "bottom +x")
 
 
 def link_corner(bearing: DFPBearing, plastic_set) -> np.ndarray:
