@@ -96,8 +96,9 @@ def main() -> None:
     ap.add_argument("--pressures", type=float, nargs="+", default=[60e6, 10e6])
     ap.add_argument("--criteria", type=int, nargs="+", default=[3, 4])
     ap.add_argument("--search", choices=("full", "fast"), default="fast")
-    ap.add_argument("--predict-search", choices=("full", "fast", "bisect"), default="bisect",
-                    help="search of the predicted ladder (bisect: one failure boundary per Tp)")
+    ap.add_argument("--predict-search", choices=("full", "fast", "bisect"), default="fast",
+                    help="search of the predicted ladder (bisect assumes one failure boundary "
+                         "per Tp, which pulses with failure lobes break)")
     ap.add_argument("--after-failure", type=int, default=3)
     ap.add_argument("--processes", type=int, default=os.cpu_count())
     ap.add_argument("--records", type=int, default=None, help="only the first N components")
