@@ -288,7 +288,9 @@ class FESearches:
         self.waiting: dict = {}    # task key → searches waiting for its result
         self.outcomes: dict = {}   # task key → result
 
-    def _key(self, i, j, criterion=None) -> tuple:
+    def run_key(self, i: int, j: int, criterion: str | None = None) -> tuple[str, dict]:
+        """Task key and keyword arguments of the FE run of target ``i`` at rung ``j``
+        (``criterion``: a stored run made to another limit state, see :func:`decides`)."""
         bearing, motion, rigid_crit = self.targets[i]
         scale = (self.start + j * self.step) / rigid_crit.record_sa
         kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
@@ -306,7 +308,7 @@ class FESearches:
         for criterion in LIMIT_STATES:
             if criterion == self.options["criterion"]:
                 continue
-            key, _ = self._key(i, j, criterion)
+            key, _ = self.run_key(i, j, criterion)
             result = self.outcomes.get(key) or self.stored(key)
             if result is not None and decides(result, criterion, self.found[k].limit_state):
                 self.outcomes[key] = result
@@ -322,7 +324,7 @@ class FESearches:
             if j is None:
                 return tasks
             i = k // len(self.limit_states)
-            key, kwargs = self._key(i, j)
+            key, kwargs = self.run_key(i, j)
             if key not in self.outcomes:
                 key = self._reusable(k, i, j) or key
             if key in self.outcomes:

@@ -37,7 +37,7 @@ def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None) 
             continue
         probe = next(p for p in r.probes if abs(p["sa"] - r.survived_below) < 1e-9)
         j = round((probe["sa"] - searches.start) / searches.step)
-        _, kwargs = searches._key(k // len(searches.limit_states), j)
+        _, kwargs = searches.run_key(k // len(searches.limit_states), j)
         pressure, i = owners[k // len(searches.limit_states)]
         rows.append({"record": motions[i], "pressure": pressure, "sa": probe["sa"],
                      "trimmed": probe, "kwargs": kwargs, "models": searches.models})
