@@ -126,3 +126,25 @@ def test_fem_statistics_against_hand_computed_values():
                                                 rel=1e-12)
     assert (rigid["within_20_percent"], rigid["within_35_percent"]) == (2, 3)
     assert stats["yielding rims"]["within_35_percent"] == 5
+
+
+def test_claim_verdicts_apply_the_goal():
+    """The goal is median within ±15 % and every compared case within ±35 %: a median of 1.0
+    with one case at 2.0 does not agree; all five at 1.0–1.3 with median 1.1 does; 1.16 is
+    outside the median band (the boundary values themselves are not tested: float ratios)."""
+    from validation.report.write import claim_verdicts
+
+    base = {"limit_state": "containment", "rigid_model": "yielding rims", "cases": 5,
+            "compared": 5}
+    stats = [{**base, "median_ratio": 1.0, "within_20_percent": 4, "within_35_percent": 4},
+             {**base, "median_ratio": 1.1, "within_20_percent": 5, "within_35_percent": 5},
+             {**base, "median_ratio": 1.16, "within_20_percent": 5, "within_35_percent": 5},
+             {**base, "compared": 3, "median_ratio": 1.0, "within_20_percent": 3,
+              "within_35_percent": 3},
+             {**base, "compared": 0, "median_ratio": None, "within_20_percent": 0,
+              "within_35_percent": 0}]
+    text = claim_verdicts(stats)
+    assert [t.endswith(": agrees by the goal.") for t in text] == [False, True, False, True,
+                                                                   False]
+    assert "(2 of 5 cases without both answers)" in text[3]
+    assert text[4] == "containment, yielding rims: no case with both answers among 5."
