@@ -148,7 +148,8 @@ def record_rows(motions) -> list[dict]:
     return rows
 
 
-def _save_figure(fig, path: Path) -> Path:
+def save_figure(fig, path: Path) -> Path:
+    """Write a matplotlib figure to ``path`` as PNG (atomically) and close it."""
     import matplotlib.pyplot as plt
 
     from rigid.tasks import atomic_path
@@ -408,7 +409,7 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
         fig, axes = plt.subplots(1, len(res.predictions), figsize=(4.2 * len(res.predictions), 4))
         for ax, c in zip(np.atleast_1d(axes), sorted(res.predictions), strict=True):
             plot_comparison(rows, c, ax=ax)
-        report.figure(_save_figure(fig, figures / f"fig12_{tag}.png"),
+        report.figure(save_figure(fig, figures / f"fig12_{tag}.png"),
                       "Predicted against actual critical SA, ±20 % band (paper Fig. 12)")
         certain = [a for a in res.actual if not a.uncertain]
         critical = [a.sa for a in certain]
@@ -430,7 +431,7 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
             )
             fig, ax = plt.subplots(figsize=(5, 4))
             plot_fragility(fit, [v for v in critical if v is not None], ax=ax)
-            report.figure(_save_figure(fig, figures / f"fragility_{tag}.png"),
+            report.figure(save_figure(fig, figures / f"fragility_{tag}.png"),
                           "Fragility: empirical and fitted lognormal")
     write_csv(table2_rows, out / "table2.csv")
     report.heading("Table 2: predictions within 20 % of the actual critical SA")
@@ -493,7 +494,7 @@ def _fem_section(report, fem, settings, out, figures) -> dict:
         "the answer is marked uncertain when it depends on it."
     )
     fig = plot_fem_vs_rigid(rows, settings.stop / G)
-    report.figure(_save_figure(fig, figures / "fig4_fem_vs_rigid.png"),
+    report.figure(save_figure(fig, figures / "fig4_fem_vs_rigid.png"),
                   "FE against rigid critical SA per record (paper Fig. 4), one panel per FE "
                   "limit state; marker: FE failure mode, against the rigid model with rigid "
                   "rims; ×: the same FE answer against the rigid model with yielding rims; "
