@@ -351,7 +351,9 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
         else f"the records of {record_set}, listed below"), note=True)
     report.paragraph(
         f"Record set: {record_set} ({len(motions)} components). Run on "
-        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {elapsed / 60:.1f} min. "
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} in {elapsed / 60:.1f} min "
+        "(results already in the run's store are read, not rerun; progress.log has the time "
+        "of every run made). "
         "Critical SA(4.5 s): first failing rung of a 0.01 g ladder of the rigid model "
         "(paper §4.2); predicted: first rung whose scaled Ricker pulse fails the bearing "
         "(paper Fig. 11). Accelerations in g. A rung whose integration stayed unstable "
