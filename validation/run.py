@@ -129,13 +129,15 @@ def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, ste
             "yielding": yielding}
 
 
-def _critical_from_json(d):
+def critical_from_json(d):
+    """A :class:`rigid.collapse.ladder.CriticalSA` from its stored JSON form."""
     from rigid.collapse.ladder import CriticalSA, Rung
 
     return CriticalSA(**{**d, "rungs": tuple(Rung(**r) for r in d["rungs"])})
 
 
-def _predicted_from_json(d):
+def predicted_from_json(d):
+    """A :class:`rigid.collapse.predict.PredictedSA` from its stored JSON form."""
     from rigid import Pulse
     from rigid.collapse.predict import PredictedSA, PredictionRung
 
@@ -153,7 +155,7 @@ class PressureResults:
     yielding: dict = field(default_factory=dict)  # limit state → list of CriticalSA
 
 
-def _rigid_tasks(motions, settings: Settings, out: Path):
+def rigid_tasks(motions, settings: Settings, out: Path):
     """The rigid record tasks and, by key, their (pressure [Pa], record index)."""
     cache = str(out / "ladders")
     tasks, index = [], {}
@@ -178,11 +180,11 @@ def _collect_rigid(tasks, index, results, settings) -> dict:
     for task in tasks:
         r = out_by_pressure[index[task.key][0]]
         data = results[task.key]
-        r.actual.append(_critical_from_json(data["actual"]))
+        r.actual.append(critical_from_json(data["actual"]))
         for c, p in data["predictions"].items():
-            r.predictions.setdefault(int(c), []).append(_predicted_from_json(p))
+            r.predictions.setdefault(int(c), []).append(predicted_from_json(p))
         for state, c in data.get("yielding", {}).items():
-            r.yielding.setdefault(state, []).append(_critical_from_json(c))
+            r.yielding.setdefault(state, []).append(critical_from_json(c))
     return out_by_pressure
 
 
@@ -194,7 +196,7 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
     -------
     dict {pressure [Pa]: PressureResults}
     """
-    tasks, index = _rigid_tasks(motions, settings, out)
+    tasks, index = rigid_tasks(motions, settings, out)
     with ResultStore(out / "results.sqlite") as store:
         results = run_tasks(tasks, store, scheduler=scheduler, workers=workers,
                             progress=progress, description="rigid critical SA",
@@ -215,7 +217,7 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
     -------
     (dict {pressure [Pa]: PressureResults}, dict {pressure [Pa]: list of FECritical})
     """
-    tasks, index = _rigid_tasks(motions, settings, out)
+    tasks, index = rigid_tasks(motions, settings, out)
     targets = set()
     if settings.fem is not None:
         targets = {(p, i) for p in (settings.fem_pressures or settings.pressures)
@@ -230,9 +232,9 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
             return ()
         pressure, i = index[task.key]
         owners.append((pressure, i))
-        yielding = {s: _critical_from_json(c) for s, c in result.get("yielding", {}).items()}
+        yielding = {s: critical_from_json(c) for s, c in result.get("yielding", {}).items()}
         return searches.add(settings.bearing_at(pressure), motions[i],
-                            _critical_from_json(result["actual"]), yielding=yielding)
+                            critical_from_json(result["actual"]), yielding=yielding)
 
     with ResultStore(out / "results.sqlite") as store:
         if settings.fem is not None:

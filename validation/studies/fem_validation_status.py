@@ -29,7 +29,7 @@ from validation.report.write import (
     plot_fem_vs_rigid,
     save_figure,
 )
-from validation.run import Settings, _critical_from_json, _rigid_tasks
+from validation.run import Settings, critical_from_json, rigid_tasks
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -45,7 +45,7 @@ def run_settings(limit_states=("hinge",), rim_thickness_mm=None) -> Settings:
 def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
     """The run's FE searches replayed from its store: the searches and their owners
     (pressure, record index), one per record in the order the searches were added."""
-    tasks, index = _rigid_tasks(motions, settings, out)
+    tasks, index = rigid_tasks(motions, settings, out)
     owners = []
     with ResultStore(out / "results.sqlite") as store:
         searches = FESearches(settings.fem, step=settings.step, start=settings.step,
@@ -55,9 +55,9 @@ def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
             result = store.get(task.key)
             if result is None:
                 continue
-            yielding = {s: _critical_from_json(c) for s, c in result["yielding"].items()}
+            yielding = {s: critical_from_json(c) for s, c in result["yielding"].items()}
             pending = list(searches.add(settings.bearing_at(pressure), motions[i],
-                                        _critical_from_json(result["actual"]), yielding))
+                                        critical_from_json(result["actual"]), yielding))
             owners.append((pressure, i))
             while pending:
                 task = pending.pop()
