@@ -148,3 +148,29 @@ def test_claim_verdicts_apply_the_goal():
                                                                    False]
     assert "(2 of 5 cases without both answers)" in text[3]
     assert text[4] == "containment, yielding rims: no case with both answers among 5."
+
+
+def test_containment_margins_are_the_differences_of_the_two_limit_states():
+    """The containment-margin study's table from hand-made comparison rows: exact arithmetic
+    on two-decimal inputs (compared to 1e-12), an unfinished search and a record without
+    containment left out."""
+    import pandas as pd
+
+    from validation.studies.containment_margin import margins, summary
+
+    rows = pd.DataFrame([
+        # record, pressure, limit state, FE, yielding rims, finished
+        ("a", 60, "rupture", 0.20, 0.20, True), ("a", 60, "containment", 0.25, 0.22, True),
+        ("a", 10, "rupture", 0.30, 0.29, True), ("a", 10, "containment", 0.50, 0.36, True),
+        ("b", 60, "rupture", 0.15, 0.15, True), ("b", 60, "containment", 0.19, 0.16, False),
+        ("c", 60, "hinge", 0.10, 0.10, True), ("c", 60, "rupture", 0.12, 0.12, True),
+    ], columns=["record", "pressure_mpa", "limit_state", "fem_sa_g", "yielding_sa_g",
+                "finished"])
+    table = margins(rows).set_index(["record", "pressure_mpa"])
+    assert list(table.index) == [("a", 10), ("a", 60)]
+    assert table.loc[("a", 10), "fem_margin_g"] == pytest.approx(0.20, abs=1e-12)
+    assert table.loc[("a", 10), "yielding_margin_g"] == pytest.approx(0.07, abs=1e-12)
+    assert table.loc[("a", 60), "containment_ratio"] == pytest.approx(0.25 / 0.22, abs=1e-4)
+    s = summary(table.reset_index())
+    assert s.loc[60, "margin_ratio"] == pytest.approx(0.02 / 0.05, abs=1e-3)
+    assert s.loc[10, "cases"] == 1
