@@ -1,6 +1,7 @@
 """Result store and task runner: keys, persistence, resume after a kill, local pool vs Dask."""
 
 import dataclasses
+import math
 import os
 import signal
 import subprocess
@@ -141,7 +142,7 @@ def test_time_left_counts_the_follow_ups_expected():
     three ladders queued, nothing running, one worker: 750 s = 12.5 min, shown rounded."""
     from rigid.tasks.runner import Progress
 
-    tally = Progress(1)
+    tally = Progress(1, half_life=math.inf)  # equal weights: the closed form above holds
     fem = Task("f", "fem", _square, {})
     tally.spawned("ladder", [fem, fem])
     tally.spawned("fem", [fem])
@@ -163,6 +164,28 @@ def test_time_left_counts_the_follow_ups_expected():
     always = Progress(1)
     always.spawned("fem", [fem])
     assert always._work({"fem": 60.0}, 60.0) == {"fem": 60.0}
+
+
+def test_time_left_after_a_resume_follows_the_searches_still_open():
+    """A resumed run: 200 fem runs read from the store (finished searches, chains of 2), then
+    200 run (open searches, chains of 5, 100 s each). What is left per chain start is
+    W = 100 / (1 − 0.8) = 500 s. Equal weights keep the replay's share (s = 0.5, r = 0.65:
+    W = 143 s, 0.29 of it); a half-life of 50 tasks gives 422 s (0.84). The bounds sit
+    between the two and fail if the weighting is lost."""
+    from rigid.tasks.runner import Progress
+
+    fem = Task("f", "fem", _square, {})
+    estimates = {}
+    for half_life in (math.inf, 50.0):
+        tally = Progress(1, half_life=half_life)
+        for i in range(200):
+            tally.spawned("fem", [fem] * (i % 2 == 0), ran=False)
+        for i in range(200):
+            tally.spawned("fem", [fem] * (i % 5 != 4), ran=True)
+        tally.seconds = {"fem": [100.0] * 200}
+        estimates[half_life] = tally._work({"fem": tally._mean("fem")}, 100.0)["fem"] / 500.0
+    assert estimates[math.inf] < 0.35
+    assert 0.8 < estimates[50.0] < 1.0
 
 
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):

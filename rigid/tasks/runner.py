@@ -20,6 +20,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from .store import ResultStore
 
 
@@ -138,29 +140,46 @@ class Progress:
     (rather than been read from the store) with frequency s_A, so the expected work of one
     task of kind A, its follow-ups included, solves W_A = s_A m_A + Σ_B r_AB W_B (m: mean
     seconds per run of each kind), i.e. W = (I − R)⁻¹ (s m); where that has no finite
-    positive solution (a chain that has so far always gone on) only the known queue counts."""
+    positive solution (a chain that has so far always gone on) only the known queue counts.
 
-    def __init__(self, capacity: int, log=None):
+    The counts and the mean seconds weigh the tasks of each kind by recency, with a half-life
+    of ``half_life`` tasks of that kind: a resumed run first reads what its store holds
+    (finished searches, s_A ≈ 0) and then meets the searches still open (s_A ≈ 1, longer
+    chains); equal weights keep the replay's share and underestimate what is left (a resumed
+    FE validation showed 15 min where 2 h were left). ``half_life=math.inf`` gives equal
+    weights."""
+
+    def __init__(self, capacity: int, log=None, half_life: float = 50.0):
         self.capacity = max(1, int(capacity))
         self.log = None if log is None else Path(log)
+        self.decay = 0.5 ** (1.0 / half_life)  # weight kept by the older tasks of a kind
         self.seconds: dict = {}
-        self.finished: dict = {}   # kind → tasks finished (run or read from the store)
-        self.ran: dict = {}        # kind → tasks run
-        self.children: dict = {}   # (kind, follow-up kind) → follow-ups brought
+        self.finished: dict = {}   # kind → weight of the tasks finished (run or read)
+        self.ran: dict = {}        # kind → weight of the tasks run
+        self.children: dict = {}   # (kind, follow-up kind) → weight of the follow-ups brought
         self.started = time.time()
 
     def spawned(self, kind: str, follow_ups, ran: bool = True) -> None:
         """Enter the follow-ups a finished task of ``kind`` brought, and whether it ran (False:
         its result was read from the store)."""
-        self.finished[kind] = self.finished.get(kind, 0) + 1
-        self.ran[kind] = self.ran.get(kind, 0) + bool(ran)
+        for counts in (self.finished, self.ran):
+            counts[kind] = counts.get(kind, 0.0) * self.decay
+        for pair in self.children:
+            if pair[0] == kind:
+                self.children[pair] *= self.decay
+        self.finished[kind] += 1.0
+        self.ran[kind] += float(bool(ran))
         for t in follow_ups:
-            self.children[kind, t.kind] = self.children.get((kind, t.kind), 0) + 1
+            self.children[kind, t.kind] = self.children.get((kind, t.kind), 0.0) + 1.0
+
+    def _mean(self, kind: str) -> float:
+        """Recency-weighted mean seconds of the runs of ``kind`` (class docstring)."""
+        runs = self.seconds[kind]
+        weights = self.decay ** np.arange(len(runs) - 1, -1, -1, dtype=float)
+        return float(np.dot(weights, runs) / weights.sum())
 
     def _work(self, mean: dict, default: float) -> dict:
         """Expected seconds of one task of each kind with its follow-ups (class docstring)."""
-        import numpy as np
-
         kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
         m = np.array([mean.get(k, default) * (self.ran.get(k, 0) / self.finished[k]
                                                if self.finished.get(k) else 1.0)
@@ -181,7 +200,7 @@ class Progress:
         done = sum(len(v) for v in self.seconds.values())
         every = [x for v in self.seconds.values() for x in v]
         overall = sum(every) / len(every)  # for kinds not timed yet
-        mean = {k: sum(v) / len(v) for k, v in self.seconds.items()}
+        mean = {k: self._mean(k) for k in self.seconds}
         work = self._work(mean, overall)
         left = sum(work.get(t.kind, overall) for t in queue)
         # a running task runs: half its mean is left, and its follow-ups' share of W
