@@ -98,10 +98,16 @@ class _Local:
     def close(self, cancel=False):
         if self.pool is None:
             return
+        manager = self.pool._executor_manager_thread
         if cancel:  # interrupted: stop the running tasks too (an FE run takes minutes)
             for process in list((self.pool._processes or {}).values()):
                 process.terminate()
         self.pool.shutdown(wait=not cancel, cancel_futures=cancel)
+        if cancel and manager is not None:
+            # let the pool's manager thread see its workers gone and end; one still alive at
+            # interpreter exit is woken through a pipe it may have closed, and the exit then
+            # prints an OSError traceback (CPython issue 83279; seen once after SIGTERM)
+            manager.join(timeout=10)
 
 
 class _Dask:
