@@ -167,26 +167,30 @@ def test_time_left_counts_the_follow_ups_expected():
 
 
 def test_time_left_after_a_resume_follows_the_searches_still_open():
-    """A resumed run: 200 fem runs read from the store (finished searches, chains of 2), then
-    200 run (open searches, chains of 5, 100 s each). What is left per chain start is
-    W = 100 / (1 − 0.8) = 500 s. Equal weights keep the replay's share (s = 0.5, r = 0.65:
-    W = 143 s, 0.29 of it); a half-life of 50 tasks gives 422 s (0.84). The bounds sit
-    between the two and fail if the weighting is lost."""
+    """A resumed run meets finished searches (fem runs read from the store, chains of 2) and
+    open ones (run, chains of 5, 100 s each); what is left per chain start is
+    W = 100 / (1 − 0.8) = 500 s. The store's replay before the first run ends is left out
+    (exact: 500 s). Replays met later weigh by recency: 100 replays then 200 runs give
+    s = 0.67, r = 0.7, W = 222 s (0.44) with equal weights and 433 s (0.87) with a half-life of
+    50 tasks. The bounds sit between and fail if either mechanism is lost."""
     from rigid.tasks.runner import Progress
 
     fem = Task("f", "fem", _square, {})
-    estimates = {}
-    for half_life in (math.inf, 50.0):
+
+    def estimate(half_life, replays_first):
         tally = Progress(1, half_life=half_life)
-        for i in range(200):
+        if not replays_first:  # a first run has ended: later replays count
+            tally.seconds = {"fem": [100.0]}
+        for i in range(200 if replays_first else 100):
             tally.spawned("fem", [fem] * (i % 2 == 0), ran=False)
         for i in range(200):
             tally.spawned("fem", [fem] * (i % 5 != 4), ran=True)
         tally.seconds = {"fem": [100.0] * 200}
-        estimates[half_life] = tally._work({"fem": tally._mean("fem")}, 100.0)["fem"] / 500.0
-    assert estimates[math.inf] < 0.35
-    assert 0.8 < estimates[50.0] < 1.0
+        return tally._work({"fem": tally._mean("fem")}, 100.0)["fem"] / 500.0
 
+    assert estimate(math.inf, replays_first=True) == pytest.approx(1.0, rel=1e-12)
+    assert estimate(math.inf, replays_first=False) < 0.5
+    assert 0.8 < estimate(50.0, replays_first=False) < 1.0
 
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""

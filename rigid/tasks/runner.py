@@ -148,12 +148,13 @@ class Progress:
     seconds per run of each kind), i.e. W = (I − R)⁻¹ (s m); where that has no finite
     positive solution (a chain that has so far always gone on) only the known queue counts.
 
-    The counts and the mean seconds weigh the tasks of each kind by recency, with a half-life
-    of ``half_life`` tasks of that kind: a resumed run first reads what its store holds
-    (finished searches, s_A ≈ 0) and then meets the searches still open (s_A ≈ 1, longer
-    chains); equal weights keep the replay's share and underestimate what is left (a resumed
-    FE validation showed 15 min where 2 h were left). ``half_life=math.inf`` gives equal
-    weights."""
+    A resumed run first reads what its store holds (finished searches, s_A ≈ 0) and then
+    meets the searches still open (s_A ≈ 1, longer chains); counted in, that replay makes the
+    estimate far too low (a resumed FE validation showed 15 min where 2 h were left). So the
+    tasks read from the store before the first run ends are left out, and the counts and the
+    mean seconds weigh the tasks of each kind by recency, with a half-life of ``half_life``
+    tasks of that kind (``math.inf``: equal weights), for the replays and changes of pace that
+    come later."""
 
     def __init__(self, capacity: int, log=None, half_life: float = 50.0):
         self.capacity = max(1, int(capacity))
@@ -168,6 +169,8 @@ class Progress:
     def spawned(self, kind: str, follow_ups, ran: bool = True) -> None:
         """Enter the follow-ups a finished task of ``kind`` brought, and whether it ran (False:
         its result was read from the store)."""
+        if not ran and not self.seconds:
+            return  # the replay before the first run ends (class docstring)
         for counts in (self.finished, self.ran):
             counts[kind] = counts.get(kind, 0.0) * self.decay
         for pair in self.children:
