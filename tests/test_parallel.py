@@ -167,30 +167,42 @@ def test_time_left_counts_the_follow_ups_expected():
 
 
 def test_time_left_after_a_resume_follows_the_searches_still_open():
-    """A resumed run meets finished searches (fem runs read from the store, chains of 2) and
-    open ones (run, chains of 5, 100 s each); what is left per chain start is
-    W = 100 / (1 − 0.8) = 500 s. The store's replay before the first run ends is left out
-    (exact: 500 s). Replays met later weigh by recency: 100 replays then 200 runs give
-    s = 0.67, r = 0.7, W = 222 s (0.44) with equal weights and 433 s (0.87) with a half-life of
-    50 tasks. The bounds sit between and fail if either mechanism is lost."""
+    """A resumed run reads finished searches from its store (fem runs in chains of 2) and
+    runs the open ones (chains of 5, 100 s each); what is left per chain start is
+    W = 100 / (1 − 0.8) = 500 s.
+
+    - The replay before the first run ends leaves s (how often a fem task runs) alone but
+      teaches the searches' shape: a ladder read then brought 3 fem tasks, so a queued one is
+      worth 3 W_f.
+    - Replays met later weigh by recency: 100 replays then 200 runs give s = 0.67, r = 0.7,
+      W = 222 s (0.44 of the truth) with equal weights and 433 s (0.87) with a half-life of 50
+      tasks. The bounds sit between and fail if the weighting is lost."""
     from rigid.tasks.runner import Progress
 
     fem = Task("f", "fem", _square, {})
 
-    def estimate(half_life, replays_first):
+    tally = Progress(1, half_life=math.inf)
+    for _ in range(10):  # read before any run: ladders and their finished searches
+        tally.spawned("ladder", [fem] * 3, ran=False)
+    for i in range(200):
+        tally.spawned("fem", [fem] * (i % 2 == 0), ran=False)
+    tally.spawned("fem", [fem], ran=True)
+    assert tally._share("fem") == 1.0 and tally._share("ladder") == 1.0
+    work = tally._work({"fem": 100.0}, 100.0)
+    assert work["ladder"] == pytest.approx(100.0 + 3 * work["fem"], rel=1e-12)
+
+    def estimate(half_life):
         tally = Progress(1, half_life=half_life)
-        if not replays_first:  # a first run has ended: later replays count
-            tally.seconds = {"fem": [100.0]}
-        for i in range(200 if replays_first else 100):
+        tally.seconds = {"fem": [100.0]}  # a first run has ended: later replays count
+        for i in range(100):
             tally.spawned("fem", [fem] * (i % 2 == 0), ran=False)
         for i in range(200):
             tally.spawned("fem", [fem] * (i % 5 != 4), ran=True)
         tally.seconds = {"fem": [100.0] * 200}
         return tally._work({"fem": tally._mean("fem")}, 100.0)["fem"] / 500.0
 
-    assert estimate(math.inf, replays_first=True) == pytest.approx(1.0, rel=1e-12)
-    assert estimate(math.inf, replays_first=False) < 0.5
-    assert 0.8 < estimate(50.0, replays_first=False) < 1.0
+    assert estimate(math.inf) < 0.5
+    assert 0.8 < estimate(50.0) < 1.0
 
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""

@@ -150,11 +150,11 @@ class Progress:
 
     A resumed run first reads what its store holds (finished searches, s_A ≈ 0) and then
     meets the searches still open (s_A ≈ 1, longer chains); counted in, that replay makes the
-    estimate far too low (a resumed FE validation showed 15 min where 2 h were left). So the
-    tasks read from the store before the first run ends are left out, and the counts and the
-    mean seconds weigh the tasks of each kind by recency, with a half-life of ``half_life``
-    tasks of that kind (``math.inf``: equal weights), for the replays and changes of pace that
-    come later."""
+    estimate far too low (a resumed FE validation showed 15 min where 2 h were left). So s_A
+    leaves out the tasks read from the store before the first run ends (they still teach r_AB,
+    the searches' shape), and the counts and the mean seconds weigh the tasks of each kind by
+    recency, with a half-life of ``half_life`` tasks of that kind (``math.inf``: equal
+    weights), for the replays and changes of pace that come later."""
 
     def __init__(self, capacity: int, log=None, half_life: float = 50.0):
         self.capacity = max(1, int(capacity))
@@ -162,6 +162,7 @@ class Progress:
         self.decay = 0.5 ** (1.0 / half_life)  # weight kept by the older tasks of a kind
         self.seconds: dict = {}
         self.finished: dict = {}   # kind → weight of the tasks finished (run or read)
+        self.met: dict = {}        # the same without the replay before the first run ends
         self.ran: dict = {}        # kind → weight of the tasks run
         self.children: dict = {}   # (kind, follow-up kind) → weight of the follow-ups brought
         self.started = time.time()
@@ -169,15 +170,17 @@ class Progress:
     def spawned(self, kind: str, follow_ups, ran: bool = True) -> None:
         """Enter the follow-ups a finished task of ``kind`` brought, and whether it ran (False:
         its result was read from the store)."""
-        if not ran and not self.seconds:
-            return  # the replay before the first run ends (class docstring)
-        for counts in (self.finished, self.ran):
+        counted = (self.finished, self.met, self.ran) if ran or self.seconds \
+            else (self.finished,)  # the replay before the first run ends: r_AB only
+        for counts in counted:
             counts[kind] = counts.get(kind, 0.0) * self.decay
         for pair in self.children:
             if pair[0] == kind:
                 self.children[pair] *= self.decay
         self.finished[kind] += 1.0
-        self.ran[kind] += float(bool(ran))
+        if len(counted) > 1:
+            self.met[kind] += 1.0
+            self.ran[kind] += float(bool(ran))
         for t in follow_ups:
             self.children[kind, t.kind] = self.children.get((kind, t.kind), 0.0) + 1.0
 
@@ -187,12 +190,14 @@ class Progress:
         weights = self.decay ** np.arange(len(runs) - 1, -1, -1, dtype=float)
         return float(np.dot(weights, runs) / weights.sum())
 
+    def _share(self, kind: str) -> float:
+        """s_A: how often a task of ``kind`` runs rather than being read (class docstring)."""
+        return self.ran[kind] / self.met[kind] if self.met.get(kind) else 1.0
+
     def _work(self, mean: dict, default: float) -> dict:
         """Expected seconds of one task of each kind with its follow-ups (class docstring)."""
         kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
-        m = np.array([mean.get(k, default) * (self.ran.get(k, 0) / self.finished[k]
-                                               if self.finished.get(k) else 1.0)
-                      for k in kinds])
+        m = np.array([mean.get(k, default) * self._share(k) for k in kinds])
         r = np.array([[self.children.get((a, b), 0) / self.finished[a] if self.finished.get(a)
                        else 0.0 for b in kinds] for a in kinds])
         try:
@@ -213,7 +218,7 @@ class Progress:
         work = self._work(mean, overall)
         left = sum(work.get(t.kind, overall) for t in queue)
         # a running task runs: half its mean is left, and its follow-ups' share of W
-        share = self.ran.get(kind, 0) / self.finished[kind] if self.finished.get(kind) else 1.0
+        share = self._share(kind)
         left = (left + running * (mean[kind] / 2 + work[kind] - share * mean[kind])) / self.capacity
         line = (f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {done} run, {running} running, "
                 f"{len(queue)} queued; {kind} {seconds:.0f} s (mean {mean[kind]:.0f} s); "
