@@ -204,6 +204,7 @@ def test_time_left_after_a_resume_follows_the_searches_still_open():
     assert estimate(math.inf) < 0.5
     assert 0.8 < estimate(50.0) < 1.0
 
+
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""
     store = ResultStore(tmp_path / "r.sqlite")

@@ -170,17 +170,16 @@ class Progress:
     def spawned(self, kind: str, follow_ups, ran: bool = True) -> None:
         """Enter the follow-ups a finished task of ``kind`` brought, and whether it ran (False:
         its result was read from the store)."""
-        counted = (self.finished, self.met, self.ran) if ran or self.seconds \
-            else (self.finished,)  # the replay before the first run ends: r_AB only
-        for counts in counted:
-            counts[kind] = counts.get(kind, 0.0) * self.decay
+        def count(counts, amount):  # one more task of this kind: the older ones decay
+            counts[kind] = counts.get(kind, 0.0) * self.decay + amount
+
+        count(self.finished, 1.0)
+        if ran or self.seconds:  # the replay before the first run ends teaches r_AB only
+            count(self.met, 1.0)
+            count(self.ran, float(bool(ran)))
         for pair in self.children:
             if pair[0] == kind:
                 self.children[pair] *= self.decay
-        self.finished[kind] += 1.0
-        if len(counted) > 1:
-            self.met[kind] += 1.0
-            self.ran[kind] += float(bool(ran))
         for t in follow_ups:
             self.children[kind, t.kind] = self.children.get((kind, t.kind), 0.0) + 1.0
 
