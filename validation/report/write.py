@@ -276,14 +276,14 @@ def fem_run_rows(fem: dict) -> list[dict]:
     return rows
 
 
-_MODES = {"yielding": ("^", "rim yielding"), "uplift": ("o", "uplift"),
+_MODES = {"yielding": ("^", "FE: rim yielding"), "uplift": ("o", "FE: uplift"),
           "none": ("v", "no FE failure (at the top)")}
 
 
 def plot_fem_vs_rigid(rows: list[dict], stop: float):
     """Paper Fig. 4: FE against rigid critical SA(Tb) [g] per record, one panel per limit
     state, 1:1 line and ±20 % band, FE failure mode by marker, pressure by colour; a search
-    without failure sits at ``stop`` [g]."""
+    without failure sits at ``stop`` [g] with a hollow marker."""
     import matplotlib.pyplot as plt
 
     states = [s for s in LIMIT_STATES if any(r["limit_state"] == s for r in rows)]
@@ -310,13 +310,14 @@ def _fem_vs_rigid_panel(ax, rows, stop):
         marker, text = _MODES.get(mode, ("s", mode))
         x = r["rigid_sa_g"] if r["rigid_sa_g"] is not None else stop
         y = r["fem_sa_g"] if r["fem_sa_g"] is not None else stop
-        label = f"{r['pressure_mpa']:g} MPa, {text}"
+        label = f"{r['pressure_mpa']:g} MPa, against rigid rims ({text})"
+        hollow = mode == "none" or r["rigid_sa_g"] is None
         ax.plot(x, y, marker, color=colours.get(r["pressure_mpa"], "k"), ms=8,
-                mfc="none" if mode == "none" else colours.get(r["pressure_mpa"], "k"),
+                mfc="none" if hollow else colours.get(r["pressure_mpa"], "k"),
                 label=None if label in seen else label)
         seen.add(label)
         if r.get("yielding_sa_g") is not None:  # the same FE answer against yielding rims
-            label = f"{r['pressure_mpa']:g} MPa, rigid model with yielding rims"
+            label = f"{r['pressure_mpa']:g} MPa, against yielding rims"
             ax.plot(r["yielding_sa_g"], y, "x", color=colours.get(r["pressure_mpa"], "k"),
                     ms=8, label=None if label in seen else label)
             seen.add(label)
@@ -509,7 +510,8 @@ def _fem_section(report, fem, settings, out, figures) -> dict:
                   "FE against rigid critical SA per record (paper Fig. 4), one panel per FE "
                   "limit state; marker: FE failure mode, against the rigid model with rigid "
                   "rims; ×: the same FE answer against the rigid model with yielding rims; "
-                  "colour: pressure; grey: ±20 %")
+                  "colour: pressure; grey: ±20 %; hollow: no failure up to the ladder's top "
+                  "(plotted there)")
     plt.close("all")
     stats = fem_statistics(rows)
     write_csv(stats, out / "fem_statistics.csv")
