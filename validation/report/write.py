@@ -193,9 +193,10 @@ def fem_rows(fem: dict) -> list[dict]:
 def within_band(ratios, band: float):
     """True where a ratio lies within ±``band`` of 1 (``band`` as a fraction: 0.2 for ±20 %).
 
-    Critical SAs are rungs of 0.01 g, so ratios fall exactly on a band's edge (0.18 / 0.15);
-    the edge counts as inside, with a 1e-9 allowance for the division's rounding, which would
-    otherwise put 0.18 / 0.15 = 1.2000000000000002 outside and 0.28 / 0.35 inside."""
+    Critical SAs are rungs of 0.01 g, so ratios fall exactly on a band's edge (0.18 g against
+    0.15 g); the edge counts as inside, with a 1e-9 allowance for rounding, which would
+    otherwise put a rung stored as 0.18000000000000002 g over 0.15 g (1.2000000000000002)
+    outside."""
     return np.abs(np.asarray(ratios, dtype=float) - 1) <= band + 1e-9
 
 
