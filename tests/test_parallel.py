@@ -100,6 +100,32 @@ def _tasks(n):
     return [Task(task_key("square", RIGID, x=x), "square", _square, {"x": x}) for x in range(n)]
 
 
+def _blas_threads():
+    from threadpoolctl import threadpool_info
+
+    return {"threads": [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]}
+
+
+def test_in_process_tasks_run_with_one_blas_thread(monkeypatch):
+    """With one worker the tasks run in this process, whose BLAS was loaded with a thread per
+    core: the runner holds it to one thread while a task runs (as the pool's workers are by
+    their environment), and gives the threads back afterwards. A thread count the user set
+    (OMP_NUM_THREADS & co.) is left alone."""
+    from threadpoolctl import threadpool_info
+
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        monkeypatch.delenv(var, raising=False)
+    before = [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+    if not before or max(before) == 1:
+        pytest.skip("this process's BLAS has one thread already: nothing to limit")
+    task = Task(task_key("blas", RIGID), "blas", _blas_threads)
+    inside = run_tasks([task], None, workers=1, progress=False)[task.key]
+    assert inside["threads"] == [1] * len(before)
+    assert [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"] == before
+    monkeypatch.setenv("OMP_NUM_THREADS", "2")
+    assert run_tasks([task], None, workers=1, progress=False)[task.key]["threads"] == before
+
+
 def test_rerun_reuses_stored_results(tmp_path):
     store = ResultStore(tmp_path / "r.sqlite")
     first = run_tasks(_tasks(5), store, workers=1, progress=False)

@@ -11,6 +11,7 @@ their tasks and pass no store.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import sys
@@ -58,9 +59,25 @@ def default_workers() -> int:
 _THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
 
+def _one_blas_thread():
+    """A context that holds the numerical libraries of this process to one thread, unless the
+    user set a thread count (:data:`_THREAD_VARIABLES`).
+
+    The environment variables that make the pool's workers single-threaded come too late for
+    this process, whose BLAS is loaded with a thread per core; threadpoolctl changes it in
+    place. Multithreaded BLAS on the FE model's small dense blocks, beside other busy
+    processes, made an FE run 25 times as expensive (BENCHMARKS.md)."""
+    if any(var in os.environ for var in _THREAD_VARIABLES):
+        return contextlib.nullcontext()
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1)
+
+
 class _Local:
     """A process pool (``spawn`` by default: fork is unsafe with Numba threads); with one
-    worker, tasks run in this process instead (simplest to debug and profile)."""
+    worker, tasks run in this process instead (simplest to debug and profile), with one BLAS
+    thread as in the workers."""
 
     def __init__(self, workers, start_method="spawn", initializer=None):
         from concurrent.futures import ProcessPoolExecutor
@@ -83,7 +100,8 @@ class _Local:
         if self.pool is not None:
             return self.pool.submit(_timed, task.func, task.kwargs)
         future = Future()
-        future.set_result(_timed(task.func, task.kwargs))
+        with _one_blas_thread():
+            future.set_result(_timed(task.func, task.kwargs))
         return future
 
     def wait_one(self, futures):
