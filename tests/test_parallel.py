@@ -111,17 +111,17 @@ def test_in_process_tasks_run_with_one_blas_thread(monkeypatch):
     core: the runner holds it to one thread while a task runs (as the pool's workers are by
     their environment), and gives the threads back afterwards. A thread count the user set
     (OMP_NUM_THREADS & co.) is left alone."""
-    from threadpoolctl import threadpool_info
+    from rigid.tasks.runner import _THREAD_VARIABLES
 
-    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    for var in _THREAD_VARIABLES:
         monkeypatch.delenv(var, raising=False)
-    before = [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+    before = _blas_threads()["threads"]
     if not before or max(before) == 1:
         pytest.skip("this process's BLAS has one thread already: nothing to limit")
     task = Task(task_key("blas", RIGID), "blas", _blas_threads)
     inside = run_tasks([task], None, workers=1, progress=False)[task.key]
     assert inside["threads"] == [1] * len(before)
-    assert [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"] == before
+    assert _blas_threads()["threads"] == before
     monkeypatch.setenv("OMP_NUM_THREADS", "2")
     assert run_tasks([task], None, workers=1, progress=False)[task.key]["threads"] == before
 

@@ -311,16 +311,16 @@ def _fem_vs_rigid_panel(ax, rows, stop):
         marker, text = _MODES.get(mode, ("s", mode))
         x = r["rigid_sa_g"] if r["rigid_sa_g"] is not None else stop
         y = r["fem_sa_g"] if r["fem_sa_g"] is not None else stop
+        colour = colours.get(r["pressure_mpa"], "k")
         label = f"{r['pressure_mpa']:g} MPa, against rigid rims ({text})"
         hollow = mode == "none" or r["rigid_sa_g"] is None
-        ax.plot(x, y, marker, color=colours.get(r["pressure_mpa"], "k"), ms=8,
-                mfc="none" if hollow else colours.get(r["pressure_mpa"], "k"),
+        ax.plot(x, y, marker, color=colour, ms=8, mfc="none" if hollow else colour,
                 label=None if label in seen else label)
         seen.add(label)
         if r.get("yielding_sa_g") is not None:  # the same FE answer against yielding rims
             label = f"{r['pressure_mpa']:g} MPa, against yielding rims"
-            ax.plot(r["yielding_sa_g"], y, "x", color=colours.get(r["pressure_mpa"], "k"),
-                    ms=8, label=None if label in seen else label)
+            ax.plot(r["yielding_sa_g"], y, "x", color=colour, ms=8,
+                    label=None if label in seen else label)
             seen.add(label)
     ax.set_xlim(0, top)
     ax.set_ylim(0, top)
