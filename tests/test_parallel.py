@@ -192,6 +192,27 @@ def test_time_left_counts_the_follow_ups_expected():
     assert always._work({"fem": 60.0}, 60.0) == {"fem": 60.0}
 
 
+def test_time_left_counts_no_follow_ups_for_tasks_that_bring_none():
+    """A validation run with FE runs for some records only: the first ladder (10 s) brought 2
+    fem runs of 60 s, the next one none (Task.leads False). Three queued ladders that bring
+    none are worth their own 3 × 10 s = 30 s; counted as leading they would be worth
+    3 × (10 + 2 × 60) s = 6.5 min, which is what the estimate showed before."""
+    from rigid.tasks.runner import Progress
+
+    fem = Task("f", "fem", _square, {})
+    tally = Progress(1, half_life=math.inf)
+    tally.spawned("ladder", [fem, fem])
+    tally.spawned("ladder", [], leads=False)  # teaches nothing of a search's shape
+    for _ in range(2):
+        tally.spawned("fem", [])
+    tally.seconds = {"ladder": [10.0, 10.0], "fem": [60.0]}
+    assert tally._work({"ladder": 10.0, "fem": 60.0}, 35.0)["ladder"] == pytest.approx(130.0)
+    quiet = [Task("l", "ladder", _square, {}, leads=False)] * 3
+    assert "about 30 s left" in tally.record("fem", 60.0, 0, quiet)
+    leading = [Task("l", "ladder", _square, {})] * 3
+    assert "about 6 min left" in tally.record("fem", 60.0, 0, leading)
+
+
 def test_time_left_after_a_resume_follows_the_searches_still_open():
     """A resumed run reads finished searches from its store (fem runs in chains of 2) and
     runs the open ones (chains of 5, 100 s each); what is left per chain start is

@@ -222,7 +222,9 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
     if settings.fem is not None:
         targets = {(p, i) for p in (settings.fem_pressures or settings.pressures)
                    for i in settings.fem_record_indices(motions)}
-    first = sorted(tasks, key=lambda t: index[t.key] not in targets)  # stable
+    # the FE records' ladders first (stable), the others marked as bringing no FE runs
+    first = sorted((dataclasses.replace(t, leads=index[t.key] in targets) for t in tasks),
+                   key=lambda t: not t.leads)
     owners, searches = [], None
 
     def follow_up(task, result):

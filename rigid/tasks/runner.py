@@ -32,6 +32,8 @@ class Task:
 
     ``func`` must be importable at module level (it is sent to other processes by name).
     ``size`` is the task's share of the progress bar (e.g. the cells of a chunk of a sweep).
+    ``leads`` False says the task never brings follow-ups (the rigid ladder of a record
+    without FE runs): the time-left estimate then counts its own run only (:class:`Progress`).
     """
 
     key: str
@@ -39,6 +41,7 @@ class Task:
     func: Callable
     kwargs: dict = field(default_factory=dict)
     size: int = 1
+    leads: bool = True
 
 
 def _timed(func, kwargs):
@@ -165,6 +168,10 @@ class Progress:
     task of kind A, its follow-ups included, solves W_A = s_A m_A + Σ_B r_AB W_B (m: mean
     seconds per run of each kind), i.e. W = (I − R)⁻¹ (s m); where that has no finite
     positive solution (a chain that has so far always gone on) only the known queue counts.
+    Tasks that say they bring none (:attr:`Task.leads` False) are left out of r_AB and count
+    s_A m_A alone: otherwise the FE searches of two records made every one of 54 queued
+    ladders look like the start of a search (65 h left shown after the first FE run of the
+    default-mesh check, which has 4 searches).
 
     A resumed run first reads what its store holds (finished searches, s_A ≈ 0) and then
     meets the searches still open (s_A ≈ 1, longer chains); counted in, that replay makes the
@@ -180,14 +187,16 @@ class Progress:
         self.decay = 0.5 ** (1.0 / half_life)  # weight kept by the older tasks of a kind
         self.seconds: dict = {}
         self.finished: dict = {}   # kind → weight of the tasks finished (run or read)
+        self.leading: dict = {}    # the same, of the tasks that may bring follow-ups
         self.met: dict = {}        # the same without the replay before the first run ends
         self.ran: dict = {}        # kind → weight of the tasks run
         self.children: dict = {}   # (kind, follow-up kind) → weight of the follow-ups brought
         self.started = time.time()
 
-    def spawned(self, kind: str, follow_ups, ran: bool = True) -> None:
-        """Enter the follow-ups a finished task of ``kind`` brought, and whether it ran (False:
-        its result was read from the store)."""
+    def spawned(self, kind: str, follow_ups, ran: bool = True, leads: bool = True) -> None:
+        """Enter the follow-ups a finished task of ``kind`` brought, whether it ran (False:
+        its result was read from the store) and whether it could bring any (:attr:`Task.leads`).
+        """
         def count(counts, amount):  # one more task of this kind: the older ones decay
             counts[kind] = counts.get(kind, 0.0) * self.decay + amount
 
@@ -195,6 +204,9 @@ class Progress:
         if ran or self.seconds:  # the replay before the first run ends teaches r_AB only
             count(self.met, 1.0)
             count(self.ran, float(bool(ran)))
+        if not (leads or follow_ups):
+            return
+        count(self.leading, 1.0)
         for pair in self.children:
             if pair[0] == kind:
                 self.children[pair] *= self.decay
@@ -215,7 +227,7 @@ class Progress:
         """Expected seconds of one task of each kind with its follow-ups (class docstring)."""
         kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
         m = np.array([mean.get(k, default) * self._share(k) for k in kinds])
-        r = np.array([[self.children.get((a, b), 0) / self.finished[a] if self.finished.get(a)
+        r = np.array([[self.children.get((a, b), 0) / self.leading[a] if self.leading.get(a)
                        else 0.0 for b in kinds] for a in kinds])
         try:
             w = np.linalg.solve(np.eye(len(kinds)) - r, m)
@@ -233,7 +245,8 @@ class Progress:
         overall = sum(every) / len(every)  # for kinds not timed yet
         mean = {k: self._mean(k) for k in self.seconds}
         work = self._work(mean, overall)
-        left = sum(work.get(t.kind, overall) for t in queue)
+        left = sum(work.get(t.kind, overall) if t.leads
+                   else mean.get(t.kind, overall) * self._share(t.kind) for t in queue)
         # a running task runs: half its mean is left, and its follow-ups' share of W
         share = self._share(kind)
         left = (left + running * (mean[kind] / 2 + work[kind] - share * mean[kind])) / self.capacity
@@ -318,7 +331,7 @@ def run_tasks(
     def finish(task, result, seconds=None):
         results[task.key] = result
         new = list(follow_up(task, result)) if follow_up else []
-        tally.spawned(task.kind, new, ran=seconds is not None)
+        tally.spawned(task.kind, new, ran=seconds is not None, leads=task.leads)
         queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
         bar.total += sum(t.size for t in new)
         bar.update(task.size)
