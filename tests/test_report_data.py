@@ -128,6 +128,23 @@ def test_fem_statistics_against_hand_computed_values():
     assert stats["yielding rims"]["within_35_percent"] == 5
 
 
+def test_fem_statistics_keep_the_yielding_rims_when_every_search_is_uncertain():
+    """The 80 mm rims under containment: a yielding-rim answer on every case, every FE search
+    uncertain. The yielding-rim row stays, with nothing compared (the report then says so);
+    a run without yielding-rim ladders has no such row."""
+    from validation.report.write import claim_verdicts, fem_statistics
+
+    rows = [{"limit_state": "containment", "fem_over_rigid": None, "fem_over_yielding": 1.07,
+             "yielding_sa_g": 0.27, "uncertain": True}] * 3
+    stats = fem_statistics(rows)
+    assert [(s["rigid_model"], s["cases"], s["compared"]) for s in stats] == [
+        ("rigid rims", 3, 0), ("yielding rims", 3, 0)]
+    assert claim_verdicts(stats)[1] == ("containment, yielding rims: no case with both answers "
+                                        "among 3.")
+    rigid_only = [{**r, "fem_over_yielding": None, "yielding_sa_g": None} for r in rows]
+    assert [s["rigid_model"] for s in fem_statistics(rigid_only)] == ["rigid rims"]
+
+
 def test_band_edges_count_as_inside_whatever_the_division_rounds_to():
     """Rung SAs give ratios exactly on a band's edge, and the division rounds either way: the
     FE validation's NORTHR/RRS_032 (60 MPa, containment) has FE 0.18000000000000002 g (a
@@ -191,3 +208,25 @@ def test_containment_margins_are_the_differences_of_the_two_limit_states():
     s = summary(table.reset_index())
     assert s.loc[60, "margin_ratio"] == pytest.approx(0.02 / 0.05, abs=1e-3)
     assert s.loc[10, "cases"] == 1
+
+
+def test_fig4_puts_an_uncertain_search_at_its_lower_bound():
+    """An uncertain FE search (a numerical run at its answer, 0.29 g) is drawn at its highest
+    surviving SA (0.28 g), a lower bound, with a hollow diamond and a plus against the
+    yielding rims; a certain one keeps its answer and its markers."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from validation.report.write import plot_fem_vs_rigid
+
+    base = {"limit_state": "containment", "pressure_mpa": 60, "rigid_sa_g": 1.32,
+            "yielding_sa_g": 0.27, "fem_failure_mode": None}
+    rows = [{**base, "fem_sa_g": 0.29, "survived_below_g": 0.28, "uncertain": True},
+            {**base, "fem_sa_g": 0.31, "survived_below_g": 0.30, "uncertain": False,
+             "fem_failure_mode": "yielding"}]
+    fig = plot_fem_vs_rigid(rows, 1.5)
+    points = {(line.get_marker(), float(line.get_xdata()[0]), float(line.get_ydata()[0]),
+               line.get_markerfacecolor() == "none")
+              for line in fig.axes[0].lines if line.get_marker() not in ("None", None)}
+    assert points == {("D", 1.32, 0.28, True), ("+", 0.27, 0.28, False),
+                      ("^", 1.32, 0.31, False), ("x", 0.27, 0.31, False)}

@@ -307,7 +307,8 @@ def validate(args) -> int:
                           "(flagged in the report)", stacklevel=1)
     for pressure, found in fem_results.items():
         for r in found:
-            sa = "no failure" if r.sa is None else f"{r.sa / G:.2f} g ({r.failure_mode})"
+            sa = ("no failure" if r.sa is None else
+                  f"{r.sa / G:.2f} g ({r.failure_mode or 'the run there ended numerically'})")
             rigid_sa = "none" if r.rigid_sa is None else f"{r.rigid_sa / G:.2f} g"
             flag = f", {r.numerical_runs} numerical" if r.numerical_runs else ""
             flag += ", UNCERTAIN" if r.uncertain else ""

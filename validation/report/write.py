@@ -204,16 +204,20 @@ def fem_statistics(rows: list[dict]) -> list[dict]:
     """Paper Fig. 4 in numbers: per FE limit state and rim model of the rigid model, over the
     searches with both answers and no uncertainty, the median FE / rigid ratio, its
     dispersion (standard deviation of its logarithm) and how many lie within ±20 % and ±35 %
-    (the ±15 % median and ±35 % per-record goal of docs/fem_validation.md)."""
+    (the ±15 % median and ±35 % per-record goal of docs/fem_validation.md). The yielding-rim
+    row is left out when the run made no yielding-rim ladders, kept (with no case compared)
+    when every search was uncertain."""
     out = []
     for state in LIMIT_STATES:
         for model, key in (("rigid rims", "fem_over_rigid"),
                            ("yielding rims", "fem_over_yielding")):
-            ratios = np.array([r[key] for r in rows if r["limit_state"] == state
-                               and r.get(key) is not None and not r["uncertain"]], dtype=float)
-            searched = sum(r["limit_state"] == state for r in rows)
-            if not searched or (model == "yielding rims" and not ratios.size):
+            of_state = [r for r in rows if r["limit_state"] == state]
+            ratios = np.array([r[key] for r in of_state
+                               if r.get(key) is not None and not r["uncertain"]], dtype=float)
+            if not of_state or (model == "yielding rims" and all(
+                    r.get("yielding_sa_g") is None and r.get(key) is None for r in of_state)):
                 continue
+            searched = len(of_state)
             out.append({
                 "limit_state": state, "rigid_model": model, "cases": searched,
                 "compared": int(ratios.size),
@@ -278,13 +282,16 @@ def fem_run_rows(fem: dict) -> list[dict]:
 
 
 _MODES = {"yielding": ("^", "FE: rim yielding"), "uplift": ("o", "FE: uplift"),
-          "none": ("v", "no FE failure (at the top)")}
+          "none": ("v", "no FE failure (at the top)"),
+          "uncertain": ("D", "FE uncertain: lower bound")}
 
 
 def plot_fem_vs_rigid(rows: list[dict], stop: float):
     """Paper Fig. 4: FE against rigid critical SA(Tb) [g] per record, one panel per limit
     state, 1:1 line and ±20 % band, FE failure mode by marker, pressure by colour; a search
-    without failure sits at ``stop`` [g] with a hollow marker."""
+    without failure sits at ``stop`` [g] with a hollow marker, an uncertain one (a numerical
+    run at or below its answer) at its highest surviving SA, a lower bound, with a hollow
+    diamond (and a plus against yielding rims)."""
     import matplotlib.pyplot as plt
 
     states = [s for s in LIMIT_STATES if any(r["limit_state"] == s for r in rows)]
@@ -307,19 +314,25 @@ def _fem_vs_rigid_panel(ax, rows, stop):
                     label="±20 %")
     seen = set()
     for r in rows:
-        mode = r["fem_failure_mode"] if r["fem_sa_g"] is not None else "none"
+        uncertain = bool(r.get("uncertain"))
+        mode = ("uncertain" if uncertain else
+                r["fem_failure_mode"] if r["fem_sa_g"] is not None else "none")
         marker, text = _MODES.get(mode, ("s", mode))
         x = r["rigid_sa_g"] if r["rigid_sa_g"] is not None else stop
-        y = r["fem_sa_g"] if r["fem_sa_g"] is not None else stop
+        y = (r.get("survived_below_g") if uncertain
+             else r["fem_sa_g"] if r["fem_sa_g"] is not None else stop)
+        if y is None:  # uncertain from the lowest rung: nothing to show
+            continue
         colour = colours.get(r["pressure_mpa"], "k")
         label = f"{r['pressure_mpa']:g} MPa, against rigid rims ({text})"
-        hollow = mode == "none" or r["rigid_sa_g"] is None
-        ax.plot(x, y, marker, color=colour, ms=8, mfc="none" if hollow else colour,
-                label=None if label in seen else label)
+        hollow = mode in ("none", "uncertain") or r["rigid_sa_g"] is None
+        ax.plot(x, y, marker, color=colour, ms=8 if marker != "D" else 6,
+                mfc="none" if hollow else colour, label=None if label in seen else label)
         seen.add(label)
         if r.get("yielding_sa_g") is not None:  # the same FE answer against yielding rims
-            label = f"{r['pressure_mpa']:g} MPa, against yielding rims"
-            ax.plot(r["yielding_sa_g"], y, "x", color=colour, ms=8,
+            label = (f"{r['pressure_mpa']:g} MPa, against yielding rims"
+                     + (" (FE lower bound)" if uncertain else ""))
+            ax.plot(r["yielding_sa_g"], y, "+" if uncertain else "x", color=colour, ms=8,
                     label=None if label in seen else label)
             seen.add(label)
     ax.set_xlim(0, top)
