@@ -252,7 +252,8 @@ def claim_verdicts(stats: list[dict]) -> list[str]:
 def fem_run_rows(fem: dict) -> list[dict]:
     """Every FE run, in the order each search made them (a run shared by the searches of
     several limit states is listed under each, with that limit state's verdict: ``failed``
-    True, False or "numerical"), with the times [s] it reached each limit state."""
+    True, False or "numerical"), with the times [s] it reached each limit state and, for a
+    run that ended numerically, why (``numerical_detail``)."""
     rows = []
     for pressure, found in fem.items():
         for r in found:
@@ -267,6 +268,8 @@ def fem_run_rows(fem: dict) -> list[dict]:
                     **{f"{state}_s": times.get(state) for state in LIMIT_STATES},
                     "failure_time_s": p.get("failure_time"),
                     "numerical_failure": bool(p.get("numerical_failure", False)),
+                    "numerical_detail": (p.get("detail") if p.get("numerical_failure")
+                                         else None),
                     "start_s": p.get("start"), "strong_end_s": p.get("strong_end"),
                     "end_s": p.get("end"), "quiet": bool(p.get("quiet", True)),
                     "energy_end_over_reach": (p["energy_end"] / p["reach_energy"]
