@@ -230,3 +230,19 @@ def test_fig4_puts_an_uncertain_search_at_its_lower_bound():
               for line in fig.axes[0].lines if line.get_marker() not in ("None", None)}
     assert points == {("D", 1.32, 0.28, True), ("+", 0.27, 0.28, False),
                       ("^", 1.32, 0.31, False), ("x", 0.27, 0.31, False)}
+
+
+def test_fem_run_rows_say_why_a_run_ended_numerically():
+    """A run that ended numerically carries its message (the reason the table gives for an
+    uncertain search); a run that ended physically carries none, even with a message."""
+    from validation.fem_search import FECritical
+    from validation.report.write import fem_run_rows
+
+    probe = {"sa": 0.29 * 9.80665, "scale": 0.22, "cpu_seconds": 20.0}
+    stalled = {**probe, "failed": None, "numerical_failure": True,
+               "detail": "Newton did not converge at t = 7.57955 s even with Δt = 9.77e-07 s"}
+    failed = {**probe, "failed": True, "numerical_failure": False, "detail": "rim let go"}
+    search = FECritical("r", 60e6, 1.32 * 9.80665, probes=[stalled, failed])
+    rows = fem_run_rows({60e6: [search]})
+    assert [r["numerical_detail"] for r in rows] == [stalled["detail"], None]
+    assert [r["failed"] for r in rows] == ["numerical", True]
