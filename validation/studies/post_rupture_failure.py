@@ -11,7 +11,8 @@ Run: ``python -m validation.studies.post_rupture_failure [--out docs/fem-validat
 [--rim-thickness 80] [--limit-state hinge rupture containment] [--runs 3]`` with the
 settings of the validation run; writes ``docs/results/post_rupture_failure.csv`` and, for the
 first run, ``docs/images/post_rupture_failure.png`` (the last accepted state at the rim).
-Runs the shortest of the numerical runs first.
+Runs the shortest of the numerical runs first, each with one BLAS thread as in a worker (so
+that it repeats the stored run's end).
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from threadpoolctl import threadpool_limits
 
 from fem.dynamics import Integrator
 from fem.finite_element import FiniteStrainQ1
-from rigid import fema_p695
+from rigid import G, fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore
 from validation.fem_runs import fem_run
@@ -77,7 +78,7 @@ def numerical_runs(out: Path, settings, motions) -> list:
                 continue
             _, kwargs = searches.run_key(i, j)
             motion = searches.targets[i][1]
-            sa = (searches.start + j * searches.step) / 9.80665
+            sa = (searches.start + j * searches.step) / G
             found.append((result, kwargs, motion.name, sa))
     return sorted(found, key=lambda f: f[0]["wall_seconds"])
 
