@@ -47,7 +47,7 @@ class JacobianWatch:
 
         def evaluate(disc, material, u, state):
             ev, force = watch._evaluate(disc, material, u, state)
-            jac = ev.gradient[0, 0] * ev.gradient[1, 1] - ev.gradient[0, 1] * ev.gradient[1, 0]
+            _, jac, _ = disc.deformation(u)
             e = int(np.argmin(jac.min(axis=1)))
             if watch.attempts:
                 watch.attempts[-1][3].append((float(jac[e].min()), e))
@@ -94,9 +94,12 @@ def locate(mesh, bearing, element: int) -> str:
             f"inner face, {1e3 * dz:+.1f} mm from its root")
 
 
-def diagnose(result: dict, kwargs: dict, keep: list) -> dict:
-    """Rerun one stored run under a :class:`JacobianWatch`; the row of the CSV."""
+def diagnose(result: dict, kwargs: dict):
+    """Rerun one stored run under a :class:`JacobianWatch`: the row of the CSV and the rerun's
+    last :class:`fem.FEMResult`."""
     from fem import simulate
+
+    keep = []
 
     def kept(*args, **kw):
         keep.append(simulate(*args, **kw))
@@ -109,7 +112,7 @@ def diagnose(result: dict, kwargs: dict, keep: list) -> dict:
     last_j, last_e = min(accepted[-1][3])
     evaluations = [j for a in failing for j, _ in a[3]]
     res = keep[-1]
-    return {
+    return res, {
         "reproduced": again["detail"] == result["detail"] and again["end"] == result["end"],
         "stored_end_s": result["end"], "end_s": again["end"],
         "max_plastic_strain": again["max_plastic_strain"],
@@ -135,16 +138,15 @@ def main() -> None:
           "shortest", flush=True)
     rows = []
     for n, (result, kwargs, name, sa) in enumerate(found[: args.runs]):
-        keep = []
+        res, found_row = diagnose(result, kwargs)
         row = {"record": name, "pressure_mpa": kwargs["bearing"]["pressure"] / 1e6,
-               "sa_g": round(sa, 4), **diagnose(result, kwargs, keep)}
+               "sa_g": round(sa, 4), **found_row}
         rows.append(row)
         print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
                         for k, v in row.items()), flush=True)
         if n == 0:
             from fem.output import render_result
 
-            res = keep[-1]
             b = res.bearing
             side = 1.0 if res.final_displacement[-3] > 0 else -1.0
             render_result(IMAGES / "post_rupture_failure.png", res,
