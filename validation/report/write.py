@@ -528,7 +528,8 @@ def _fem_section(report, fem, settings, out, figures) -> dict:
                   "limit state; marker: FE failure mode, against the rigid model with rigid "
                   "rims; ×: the same FE answer against the rigid model with yielding rims; "
                   "colour: pressure; grey: ±20 %; hollow: no failure up to the ladder's top "
-                  "(plotted there)")
+                  "(plotted there); diamond and +: an uncertain FE search at its highest "
+                  "surviving SA, a lower bound")
     plt.close("all")
     stats = fem_statistics(rows)
     write_csv(stats, out / "fem_statistics.csv")
