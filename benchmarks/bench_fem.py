@@ -16,9 +16,15 @@
    Ricker pulse, Tp = 2 s, 0.4 g, run past the hinge to the loss of containment
    (``failure_criterion="containment"``, 18 s), the regime where small strain is meaningless.
 
-Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N] [--kinematics]``
-(about 10 minutes on 2 cores with the default 3 repeats; ``--kinematics`` alone runs only part
-3, about 8 minutes). ``--quick`` skips the 0.3 g run.
+4. The threshold of the low-rank set (``--active-gradient G [G ...]``): the past-hinge run of
+   part 3 at finite deformation with ``fem.finite_element.ACTIVE_GRADIENT`` set to each G [-]
+   (elements below it are solved with the small-strain elastic stiffness), beside the
+   small-strain run.
+
+Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N] [--kinematics |
+--active-gradient G ...]`` (about 10 minutes on 2 cores with the default 3 repeats;
+``--kinematics`` alone runs only part 3, about 8 minutes; part 4 about 1 minute per value).
+``--quick`` skips the 0.3 g run.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ import time
 import numpy as np
 
 import fem
+import fem.finite_element
 from fem.geometry import COARSE_MESH
 from rigid import DFPBearing, G, ricker_record
 
@@ -125,6 +132,21 @@ def kinematics_comparison(cache: str, repeat: int) -> None:
                [post_hinge_run(cache, kinematics=kinematics) for _ in range(repeat)])
 
 
+def threshold_comparison(cache: str, repeat: int, thresholds: list[float]) -> None:
+    """Part 4 of the module docstring."""
+    print(f"\nThreshold of the low-rank set, past the hinge, coarse mesh (median of {repeat}):")
+    post_hinge_run(cache, duration=0.1)
+    report("small strain", [post_hinge_run(cache, kinematics="small") for _ in range(repeat)])
+    default = fem.finite_element.ACTIVE_GRADIENT
+    try:
+        for g in thresholds:
+            fem.finite_element.ACTIVE_GRADIENT = g
+            report(f"finite, ACTIVE_GRADIENT = {g:g}",
+                   [post_hinge_run(cache, kinematics="finite") for _ in range(repeat)])
+    finally:
+        fem.finite_element.ACTIVE_GRADIENT = default
+
+
 def main() -> None:
     quick = "--quick" in sys.argv
     repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
@@ -133,6 +155,14 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as cache:
         if "--kinematics" in sys.argv:
             kinematics_comparison(cache, repeat)
+            return
+        if "--active-gradient" in sys.argv:
+            thresholds = []
+            for v in sys.argv[sys.argv.index("--active-gradient") + 1:]:
+                if v.startswith("--"):
+                    break
+                thresholds.append(float(v))
+            threshold_comparison(cache, repeat, thresholds)
             return
         print("\nCPU time per Newton iteration at the gravity equilibrium (median of 7):")
         print(f"{'mesh':45s} {'dofs':>7s} {'ms (solver)':>12s} {'ms (direct LU)':>15s}")
