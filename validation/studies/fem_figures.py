@@ -6,15 +6,16 @@
 (``fem_light_uplift.png``) and the impact that throws the slider out (``.gif``). The same pulse
 with the assumed steel rims ends in a rim-root hinge (tests/test_fem_failure.py).
 
-``past-hinge``: the heavy bearing (60 MPa) under SUPERST/B-PTS_037 scaled to ``--sa`` [g] of
-SA(4.5 s), default mesh, finite deformation, run past the first hinge and the rupture to the
-loss of containment: the state then (``fem_heavy_past_hinge.png`` and ``_rim.png``, zoomed on
-the rim that let go) and the sequence from just before the hinge (``.gif``).
+``past-hinge``: the heavy bearing (60 MPa; ``--pressure 10``: the light one) under
+SUPERST/B-PTS_037 scaled to ``--sa`` [g] of SA(4.5 s), default mesh, finite deformation, run
+past the first hinge and the rupture to the loss of containment: the state then
+(``fem_heavy_past_hinge.png`` or ``fem_light_…``, and ``_rim.png``, zoomed on the rim that let
+go) and the sequence from just before the hinge (``.gif``).
 
 Run (``uplift``: a few minutes of CPU; ``past-hinge``: about half an hour)::
 
     VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow python -m validation.studies.fem_figures \
-        [uplift | past-hinge [--sa 0.20] [--mesh coarse]]
+        [uplift | past-hinge [--sa 0.20] [--mesh coarse] [--pressure 10]]
 """
 
 from __future__ import annotations
@@ -64,13 +65,14 @@ def uplift() -> None:
                  window=(1000, 625), clims=clims)
 
 
-def past_the_hinge(sa_g: float, mesh: str = "default") -> None:
-    """The heavy bearing past the hinge to the loss of containment (module docstring), on the
-    default or the coarse mesh (file names with ``_coarse``)."""
+def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.0) -> None:
+    """A bearing past the hinge to the loss of containment (module docstring), on the default
+    or the coarse mesh (file names with ``_coarse``); ``pressure_mpa`` [MPa] 60 or 10."""
     from validation.fem_runs import MESHES
 
-    name = "fem_heavy_past_hinge" + ("" if mesh == "default" else f"_{mesh}")
-    bearing = DFPBearing(pressure=60e6)
+    weight = {60.0: "heavy", 10.0: "light"}[pressure_mpa]
+    name = f"fem_{weight}_past_hinge" + ("" if mesh == "default" else f"_{mesh}")
+    bearing = DFPBearing(pressure=pressure_mpa * 1e6)
     motion = next(m for m in rigid.fema_p695("nearfield_pulse") if "B-PTS_037" in m.name)
     record_sa = float(rigid.pseudo_acceleration(motion.acceleration, motion.dt, [4.5])[0])
     a = motion.acceleration * sa_g * G / record_sa
@@ -88,7 +90,7 @@ def past_the_hinge(sa_g: float, mesh: str = "default") -> None:
                        if v is not None)
     outcome = ("numerical: " + res.failure_detail if res.numerical_failure
                else res.failure_mode or "no failure")
-    title = f"60 MPa, B-PTS_037 at {sa_g:g} g, {mesh} mesh: {states}; {outcome}"
+    title = f"{pressure_mpa:g} MPa, B-PTS_037 at {sa_g:g} g, {mesh} mesh: {states}; {outcome}"
     clims = {"von_mises": (0.0, bearing.ultimate_stress / 1e6), "eq_plastic_strain": (0.0, 1.0)}
     render_result(OUT / f"{name}.png", res, title=title, clims=clims)
     # zoom on the first rim to hinge, at its deformed inner corner (vector dofs interleaved)
@@ -103,7 +105,7 @@ def past_the_hinge(sa_g: float, mesh: str = "default") -> None:
     frames = [s for s in res.snapshots if s[0] >= hinge - 0.05]
     frames = frames[:: max(1, len(frames) // FRAMES)]
     movie = dataclasses.replace(res, snapshots=tuple(frames))
-    render_movie(OUT / f"{name}.gif", movie, title="60 MPa, finite deformation",
+    render_movie(OUT / f"{name}.gif", movie, title=f"{pressure_mpa:g} MPa, finite deformation",
                  fps=8, window=(1000, 625), clims=clims)
 
 
@@ -113,8 +115,10 @@ def main() -> None:
     ap.add_argument("--sa", type=float, default=0.20, help="SA(4.5 s) [g] (past-hinge)")
     ap.add_argument("--mesh", choices=("default", "coarse"), default="default",
                     help="FE mesh (past-hinge)")
+    ap.add_argument("--pressure", type=float, choices=(60.0, 10.0), default=60.0,
+                    help="slider pressure [MPa] (past-hinge)")
     args = ap.parse_args()
-    uplift() if args.case == "uplift" else past_the_hinge(args.sa, args.mesh)
+    uplift() if args.case == "uplift" else past_the_hinge(args.sa, args.mesh, args.pressure)
 
 
 if __name__ == "__main__":
