@@ -75,6 +75,7 @@ def build_system(
     vertex_contact: bool = False,
     plasticity: bool = True,
     kinematics: str = "small",
+    edge_radius: float = 0.0,
     cache_dir=None,
 ) -> DFPSystem:
     """Assemble the plane-strain DFP model of a bearing.
@@ -97,6 +98,9 @@ def build_system(
         The bearing's elastoplastic steel (default); False keeps it linear elastic
         (:meth:`fem.material.Material.elastic`), the FE counterpart of the rigid model's rims
         that cannot yield.
+    edge_radius : float [m]
+        Radius of the slider's rounded edges (:class:`fem.contact.SliderShape`; 0: sharp).
+        Not with ``vertex_contact``, which makes the sharp vertices contact points.
     kinematics : {"small", "finite"}
         Small strain (Q1 B-bar, :mod:`fem.assembly`) or finite deformation of the plates and
         rims (mean-dilatation Q1 with Hencky J2, :mod:`fem.finite_element`).
@@ -115,6 +119,9 @@ def build_system(
     from .material import Material
     from .system import CoupledSystem, Reduction
 
+    if edge_radius > 0.0 and vertex_contact:
+        raise ValueError("vertex_contact needs sharp slider edges (edge_radius = 0)")
+    shape = C.SliderShape.from_bearing(bearing, edge_radius)  # checked before meshing
     dfp = build_mesh(bearing, cache_dir=cache_dir, **(mesh_options or {}))
     m = dfp.mesh
     if kinematics not in KINEMATICS:
@@ -134,7 +141,6 @@ def build_system(
     dish = m.facets[:, m.boundaries["bottom_dish"]]
     h_c = float(np.mean(np.linalg.norm(m.p[:, dish[1]] - m.p[:, dish[0]], axis=0)))
     eps_n = penalty_factor * bearing.youngs_modulus / h_c
-    shape = C.SliderShape.from_bearing(bearing)
     steel = Material.from_bearing(bearing)
     system = CoupledSystem(
         fe, steel if plasticity else steel.elastic(), shape, nodes,

@@ -88,6 +88,8 @@ class FEMResult:
         ``(t, d_full, plastic_strain, stress)`` every ``snapshot_every`` steps (for movies).
     bearing : rigid.DFPBearing
     mesh : skfem.MeshQuad1
+    edge_radius : float [m]
+        Radius of the slider's rounded edges in the run (0: sharp).
     """
 
     time: np.ndarray
@@ -125,6 +127,7 @@ class FEMResult:
     snapshots: tuple
     bearing: DFPBearing
     mesh: object = field(repr=False)
+    edge_radius: float = 0.0
 
     @property
     def max_displacement(self) -> float:
@@ -169,6 +172,7 @@ def simulate(
     plasticity: bool = True,
     kinematics: str = "finite",
     energy_tolerance: float = 1e-3,
+    edge_radius: float = 0.0,
     cache_dir=None,
 ) -> FEMResult:
     """Run the plane-strain FE model of the DFP bearing on a horizontal ground acceleration.
@@ -221,6 +225,10 @@ def simulate(
         (:class:`fem.dynamics.StepControl`). ``math.inf``: no energy control. The default
         suits runs that end in yielding; for runs that end in uplift use 1e-4 (the
         measurements behind this advice: docs/fe-companion.md, "Numerical settings").
+    edge_radius : float [m]
+        Radius of the slider's rounded edges, smaller than half the height of its flat sides
+        (0: sharp edges, the rigid model's slider; what rounding changes: docs/fe-companion.md,
+        "Rounded slider edges").
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -249,7 +257,7 @@ def simulate(
     model = build_system(
         bearing, mesh_options=mesh_options, penalty_factor=penalty_factor,
         vertex_contact=vertex_contact, plasticity=plasticity, kinematics=kinematics,
-        cache_dir=cache_dir,
+        edge_radius=edge_radius, cache_dir=cache_dir,
     )
     sysm, red, mesh = model.system, model.reduction, model.mesh
     depth = model.depth
@@ -377,4 +385,5 @@ def simulate(
         snapshots=tuple(snaps),
         bearing=bearing,
         mesh=mesh,
+        edge_radius=edge_radius,
     )

@@ -43,15 +43,32 @@ def nodal_displacement(mesh, d_full: np.ndarray) -> np.ndarray:
 
 
 def slider_outline(shape: SliderShape, pose, n: int = 48) -> np.ndarray:
-    """Closed outline of the slider section at a pose, shape (2, m) [m]."""
-    R, hw = shape.radius, shape.half_width
+    """Closed outline of the slider section at a pose, shape (2, m) [m], with its rounded
+    edges if it has them."""
+    R, r = shape.radius, shape.edge_radius
     cb, ct = shape.centres
-    a = np.arcsin(hw / R)
+    f = shape.edge_centres
+    # each face arc ends where it meets its edge arc (at the sharp vertex if r = 0)
+    a = np.arcsin(f[0, 1] / (R - r)) if r > 0 else np.arcsin(shape.half_width / R)
     s = np.linspace(-a, a, n)
     bottom = cb[:, None] + R * np.array([np.sin(s), -np.cos(s)])
     top = ct[:, None] + R * np.array([np.sin(s[::-1]), np.cos(s[::-1])])
-    xi = np.concatenate([bottom, top, bottom[:, :1]], axis=1)
+    parts = [bottom]
+    if r > 0:  # counter-clockwise: bottom right, top right edges; top face; top left, bottom left
+        parts += [_edge(f[:, 1], r, a - np.pi / 2, 0.0, n // 4),
+                  _edge(f[:, 3], r, 0.0, np.pi / 2 - a, n // 4)]
+    parts.append(top)
+    if r > 0:
+        parts += [_edge(f[:, 2], r, np.pi / 2 + a, np.pi, n // 4),
+                  _edge(f[:, 0], r, np.pi, 1.5 * np.pi - a, n // 4)]
+    xi = np.concatenate([*parts, bottom[:, :1]], axis=1)
     return rotation(pose[2]) @ xi + np.asarray(pose[:2])[:, None]
+
+
+def _edge(centre, r, start, stop, n):
+    """Points of a rounded edge's arc from angle ``start`` to ``stop`` [rad]."""
+    t = np.linspace(start, stop, n)
+    return centre[:, None] + r * np.array([np.cos(t), np.sin(t)])
 
 
 def write_vtu(path, mesh, d_full, stress, plastic_strain) -> Path:
@@ -181,7 +198,7 @@ def render_state(
 
 def render_result(path, result, **kwargs) -> Path:
     """:func:`render_state` of an :class:`fem.FEMResult`'s final state."""
-    shape = SliderShape.from_bearing(result.bearing)
+    shape = SliderShape.from_bearing(result.bearing, result.edge_radius)
     n_plate = result.final_displacement.size - 3
     pose = np.array([0.0, result.bearing.slider_height / 2, 0.0]) + result.final_displacement[
         n_plate:
@@ -201,7 +218,7 @@ def render_movie(path, result, *, fps: int = 10, **kwargs) -> Path:
 
     if not result.snapshots:
         raise ValueError("the result has no snapshots; run fem.simulate with snapshot_every > 0")
-    shape = SliderShape.from_bearing(result.bearing)
+    shape = SliderShape.from_bearing(result.bearing, result.edge_radius)
     base = np.array([0.0, result.bearing.slider_height / 2, 0.0])
     vm_max = max(float(von_mises(s[3]).max()) for s in result.snapshots) / 1e6
     p_max = max(float(s[2].max()) for s in result.snapshots) or 1e-6

@@ -18,6 +18,7 @@ from fem import contact as C
 from rigid.bearing import DFPBearing, G
 
 SHAPE = C.SliderShape(radius=2.5, half_width=0.2, half_height=0.1)
+ROUNDED = C.SliderShape(radius=2.5, half_width=0.2, half_height=0.1, edge_radius=0.01)
 
 
 def test_penetration_geometry():
@@ -44,8 +45,57 @@ def test_penetration_geometry():
     assert np.abs(d).max() < 1e-14
 
 
-def _random_contacts(friction, n=24, seed=0):
-    """Nodes a few µm inside each face of a tilted, shifted slider."""
+def test_rounded_edges_geometry():
+    """Rounded edges (Eq. F14a), against the geometry written here: a point a depth t inside
+    an edge arc, along its normal at angle φ between the side's and the face's normals, has
+    depth t, the arc's normal and ρ = r − t (1e-12 m: round-off on coordinates of 0.2 m); the
+    depth is continuous where the arc meets a face (1e-12 m); the sharp vertex is outside by
+    |v − f| − r; the rounded section lies inside the sharp one; and r = 0 is the sharp
+    section bit for bit."""
+    r = ROUNDED.edge_radius
+    f = ROUNDED.edge_centres
+    cb, ct = ROUNDED.centres
+    for k, (sx, centre) in enumerate(((-1, cb), (1, cb), (-1, ct), (1, ct))):
+        n_side = np.array([sx, 0.0])
+        n_face = (f[:, k] - centre) / np.linalg.norm(f[:, k] - centre)
+        a_side, a_face = (math.atan2(n[1], n[0]) for n in (n_side, n_face))
+        if a_face - a_side > math.pi:
+            a_face -= 2 * math.pi
+        elif a_side - a_face > math.pi:
+            a_side -= 2 * math.pi
+        phi = np.linspace(a_side, a_face, 9)[1:-1]  # the ends belong to either face
+        t = np.linspace(-2e-3, 3e-3, 7)
+        nu = np.array([np.cos(phi), np.sin(phi)])
+        pts = f[:, k, None] + (r - t) * nu
+        depth, face, normal, rho = C.penetration(ROUNDED, pts)
+        assert np.abs(depth - t).max() < 1e-12
+        assert (face == C.EDGES[k]).all()
+        assert np.abs(normal - nu).max() < 1e-12 and np.abs(rho - (r - t)).max() < 1e-12
+        # across the two ends of the arc: a point just inside the wedge and one just outside
+        for n_end in (n_side, n_face):
+            tangent = np.array([-n_end[1], n_end[0]])
+            p0 = f[:, k] + (r - 1e-3) * n_end
+            pair = np.stack([p0 + 1e-9 * tangent, p0 - 1e-9 * tangent], axis=1)
+            d_pair, face_pair, _, _ = C.penetration(ROUNDED, pair)
+            assert abs(d_pair[0] - d_pair[1]) < 1e-12 and set(face_pair) != {C.EDGES[k]}
+    v = ROUNDED.vertices
+    d_v, _, _, _ = C.penetration(ROUNDED, v)
+    assert np.abs(d_v - (r - np.linalg.norm(v - f, axis=0))).max() < 1e-12
+    rng = np.random.default_rng(1)
+    pts = rng.uniform([-0.25, -0.12], [0.25, 0.12], (4000, 2)).T
+    sharp, _, _, _ = C.penetration(SHAPE, pts)
+    rounded, _, _, _ = C.penetration(ROUNDED, pts)
+    assert (rounded <= sharp + 1e-15).all() and (rounded < sharp - 1e-4).any()
+    zero = C.SliderShape(radius=2.5, half_width=0.2, half_height=0.1, edge_radius=0.0)
+    for a, b in zip(C.penetration(SHAPE, pts), C.penetration(zero, pts), strict=True):
+        assert np.array_equal(a, b)
+    with pytest.raises(ValueError, match="edge_radius"):
+        C.SliderShape(radius=2.5, half_width=0.2, half_height=0.1, edge_radius=0.1)
+
+
+def _random_contacts(friction, n=24, seed=0, shape=SHAPE):
+    """Nodes a few µm inside each face of a tilted, shifted slider (and inside each rounded
+    edge, if ``shape`` has them)."""
     rng = np.random.default_rng(seed)
     pose = np.array([0.03, 0.101, 0.02])
     cb, ct = SHAPE.centres
@@ -59,26 +109,36 @@ def _random_contacts(friction, n=24, seed=0):
     )
     xi[:, 2 * k : 3 * k] = [0.2 - inset[2 * k : 3 * k], rng.uniform(-0.08, 0.08, k)]
     xi[:, 3 * k :] = [-0.2 + inset[3 * k :], rng.uniform(-0.08, 0.08, n - 3 * k)]
+    if shape.edge_radius > 0:  # one node inside each rounded edge, at the arc's middle
+        f = shape.edge_centres
+        mid = np.array([np.sign(f[0]), np.sign(f[1])]) / math.sqrt(2)
+        edge = f + (shape.edge_radius - rng.uniform(1e-7, 1e-5, 4)) * mid
+        xi = np.concatenate([xi, edge], axis=1)
+        n += 4
     x = C.rotation(pose[2]) @ xi + pose[:2, None]
     nodes = C.ContactNodes(np.arange(n), np.full(n, 0.01), np.full(n, friction), np.zeros(n, int))
     return x, pose, nodes
 
 
+@pytest.mark.parametrize("shape", [SHAPE, ROUNDED], ids=["sharp", "rounded"])
 @pytest.mark.parametrize("friction", [0.0, 0.05])
-def test_tangent_against_finite_differences(friction):
-    """K = −∂F/∂d against central differences (step 1e-9 m), for every node's 5 × 5 block.
+def test_tangent_against_finite_differences(friction, shape):
+    """K = −∂F/∂d against central differences (step 1e-9 m), for every node's 5 × 5 block,
+    with sharp and with rounded edges (nodes on the edge arcs too).
 
     Frictionless: normal penalty plus the exact curvature term. With friction, every node sticks
     with zero traction at the base point (ξ_n = ξ), where the omitted T·∂τ terms vanish, so the
     tangent must be exact there too. Tolerance 1e-5 relative to the largest entry: central
     differences on forces of ~1e6 N/m with δ ~ µm give truncation ~1e-7.
     """
-    x, pose, nodes = _random_contacts(friction)
+    x, pose, nodes = _random_contacts(friction, shape=shape)
     xi = C.body_coordinates(x, pose)
-    _, face, _, _ = C.penetration(SHAPE, xi)
+    _, face, _, _ = C.penetration(shape, xi)
+    if shape.edge_radius > 0:
+        assert set(C.EDGES) <= set(face)
     state = C.ContactState(xi, np.zeros(xi.shape[1]), face)
     offset = np.zeros(xi.shape[1])
-    base = C.evaluate(SHAPE, nodes, x, pose, state, offset, 2e14, 2e13)
+    base = C.evaluate(shape, nodes, x, pose, state, offset, 2e14, 2e13)
     assert base.active.all()
     assert base.stick.all() == (friction > 0)
     h = 1e-9
@@ -86,7 +146,7 @@ def test_tangent_against_finite_differences(friction):
     def local_force(i, d):
         xx = x.copy()
         xx[:, i] = d[:2]
-        r = C.evaluate(SHAPE, nodes, xx, d[2:], state, offset, 2e14, 2e13)
+        r = C.evaluate(shape, nodes, xx, d[2:], state, offset, 2e14, 2e13)
         # the slider force of node i alone: subtract the others' (unchanged for x-columns)
         return np.concatenate([r.node_force[:, i], r.slider_force])
 
@@ -105,8 +165,8 @@ def test_tangent_against_finite_differences(friction):
     for j in range(3):
         e = np.zeros(3)
         e[j] = h
-        fp = C.evaluate(SHAPE, nodes, x, pose + e, state, offset, 2e14, 2e13).slider_force
-        fm = C.evaluate(SHAPE, nodes, x, pose - e, state, offset, 2e14, 2e13).slider_force
+        fp = C.evaluate(shape, nodes, x, pose + e, state, offset, 2e14, 2e13).slider_force
+        fm = C.evaluate(shape, nodes, x, pose - e, state, offset, 2e14, 2e13).slider_force
         fd[:, j] = -(fp - fm) / (2 * h)
     K = base.stiffness[2:, 2:].sum(axis=-1)
     worst = max(worst, np.abs(fd - K).max() / np.abs(K).max())
@@ -243,7 +303,24 @@ def test_slider_at_rest(heavy_system):
     1e-7 relative (Newton rtol 1e-8); no net horizontal force or moment on the slider (1e-7 of
     W and W·b); by symmetry the slider neither shifts (< 1 µm) nor tilts (< 1e-6 rad). The
     static penetration is of order p/ε_N: the slider sinks by less than 0.1 mm."""
-    model = heavy_system
+    _check_at_rest(heavy_system)
+
+
+def test_slider_with_rounded_edges_at_rest(heavy_system, mesh_cache):
+    """The same equilibrium, to the same tolerances, with the slider's edges rounded to 20 mm
+    (Eq. F14a): the dish nodes under the edges lose contact, the others carry the load on the
+    spherical faces."""
+    from fem.dfp import build_system
+
+    model = build_system(DFPBearing(), mesh_options={"rim_size": 0.01, "coarse_size": 0.04},
+                         edge_radius=0.02, cache_dir=mesh_cache)
+    faces = _check_at_rest(model)
+    assert set(faces) == {C.BOTTOM, C.TOP}
+    assert faces.size < _check_at_rest(heavy_system).size
+
+
+def _check_at_rest(model):
+    """The assertions of :func:`test_slider_at_rest`; returns the faces in contact."""
     b = model.bearing
     res = _gravity_step(model)
     con = res.evaluation.contact
@@ -258,6 +335,7 @@ def test_slider_at_rest(heavy_system):
     pose = model.system.slider_pose(res.displacement)
     assert abs(pose[0]) < 1e-6 and abs(pose[2]) < 1e-6
     assert 0 < b.slider_height / 2 - pose[1] < 1e-4
+    return con.state.face[con.active]
 
 
 def test_friction_pendulum_quasi_static(heavy_system):
@@ -314,3 +392,15 @@ def test_friction_pendulum_quasi_static(heavy_system):
         assert H == pytest.approx(expected, rel=0.01), u
         # the slider settles at half the travel (both surfaces slide alike), within 1 mm
         assert system.slider_pose(d)[0] == pytest.approx(u / 2, abs=1e-3)
+
+
+def test_rounded_edges_are_checked_before_meshing(tmp_path):
+    """An edge radius too large for the slider, or rounded edges with vertex contact (which
+    needs the sharp vertices), is refused with a clear error before any mesh is built."""
+    from fem.dfp import build_system
+
+    with pytest.raises(ValueError, match="edge_radius"):
+        build_system(DFPBearing(), edge_radius=0.5, cache_dir=tmp_path)
+    with pytest.raises(ValueError, match="vertex_contact needs sharp slider edges"):
+        build_system(DFPBearing(), edge_radius=0.01, vertex_contact=True, cache_dir=tmp_path)
+    assert not any(tmp_path.iterdir())

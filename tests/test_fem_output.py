@@ -31,14 +31,18 @@ def state(mesh_cache):
     return mesh, fe, d, stress, plastic
 
 
-def test_slider_outline_on_the_section():
-    """Every outline point lies on the section boundary (|depth| < 1e-12 m) and it closes."""
-    shape = C.SliderShape.from_bearing(BEARING)
+@pytest.mark.parametrize("edge_radius", [0.0, 0.025])
+def test_slider_outline_on_the_section(edge_radius):
+    """Every outline point lies on the section boundary (|depth| < 1e-12 m), it closes, and
+    with rounded edges every edge arc has points on it."""
+    shape = C.SliderShape.from_bearing(BEARING, edge_radius)
     pose = np.array([0.1, 0.12, 0.05])
     pts = slider_outline(shape, pose)
-    depth, _, _, _ = C.penetration(shape, C.body_coordinates(pts, pose))
+    depth, face, _, _ = C.penetration(shape, C.body_coordinates(pts, pose))
     assert np.abs(depth).max() < 1e-12
     assert np.allclose(pts[:, 0], pts[:, -1])
+    if edge_radius:
+        assert set(C.EDGES) <= set(face)
 
 
 def test_nodal_displacement_order(state):

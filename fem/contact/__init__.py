@@ -5,11 +5,22 @@ nodes (:mod:`fem.contact.nodes`) and, optionally, at the slider's vertices
 the formulation is in ``docs/theory/finite-elements.md``, "Contact"."""
 
 from .nodes import ContactNodes, ContactResult, ContactState, assemble, evaluate, initial_state
-from .slider import BOTTOM, LEFT, RIGHT, TOP, SliderShape, body_coordinates, penetration, rotation
+from .slider import (
+    BOTTOM,
+    EDGES,
+    LEFT,
+    RIGHT,
+    TOP,
+    SliderShape,
+    body_coordinates,
+    penetration,
+    rotation,
+)
 from .vertices import VertexContact, add_vertices, vertex_contact
 
 __all__ = [
     "BOTTOM",
+    "EDGES",
     "LEFT",
     "RIGHT",
     "TOP",

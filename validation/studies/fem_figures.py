@@ -10,12 +10,13 @@ with the assumed steel rims ends in a rim-root hinge (tests/test_fem_failure.py)
 SUPERST/B-PTS_037 scaled to ``--sa`` [g] of SA(4.5 s), default mesh, finite deformation, run
 past the first hinge and the rupture to the loss of containment: the state then
 (``fem_heavy_past_hinge.png`` or ``fem_light_…``, and ``_rim.png``, zoomed on the rim that let
-go) and the sequence from just before the hinge (``.gif``).
+go) and the sequence from just before the hinge (``.gif``). ``--edge-radius MM`` rounds the
+slider's edges (``fem.simulate(edge_radius=…)``; file names end in ``_rounded``).
 
 Run (``uplift``: a few minutes of CPU; ``past-hinge``: about half an hour)::
 
     VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow python -m validation.studies.fem_figures \
-        [uplift | past-hinge [--sa 0.20] [--mesh coarse] [--pressure 10]]
+        [uplift | past-hinge [--sa 0.20] [--mesh coarse] [--pressure 10] [--edge-radius 20]]
 """
 
 from __future__ import annotations
@@ -65,13 +66,16 @@ def uplift() -> None:
                  window=(1000, 625), clims=clims)
 
 
-def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.0) -> None:
+def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.0,
+                   edge_radius_mm: float = 0.0) -> None:
     """A bearing past the hinge to the loss of containment (module docstring), on the default
-    or the coarse mesh (file names with ``_coarse``); ``pressure_mpa`` [MPa] 60 or 10."""
+    or the coarse mesh (file names with ``_coarse``); ``pressure_mpa`` [MPa] 60 or 10;
+    ``edge_radius_mm`` [mm] the slider's edge radius (0: sharp)."""
     from validation.fem_runs import MESHES
 
     weight = {60.0: "heavy", 10.0: "light"}[pressure_mpa]
-    name = f"fem_{weight}_past_hinge" + ("" if mesh == "default" else f"_{mesh}")
+    name = (f"fem_{weight}_past_hinge" + ("" if mesh == "default" else f"_{mesh}")
+            + ("_rounded" if edge_radius_mm else ""))
     bearing = DFPBearing(pressure=pressure_mpa * 1e6)
     motion = next(m for m in rigid.fema_p695("nearfield_pulse") if "B-PTS_037" in m.name)
     record_sa = float(rigid.pseudo_acceleration(motion.acceleration, motion.dt, [4.5])[0])
@@ -81,7 +85,7 @@ def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.
     cpu = time.process_time()
     res = fem.simulate(bearing, a[window.start:], motion.dt, failure_criterion="containment",
                        duration=(a.size - 1) * motion.dt - t0 + 5.0, snapshot_every=4,
-                       mesh_options=MESHES[mesh])
+                       mesh_options=MESHES[mesh], edge_radius=edge_radius_mm / 1e3)
     cpu = time.process_time() - cpu
     print(res.summary())
     print(f"CPU {cpu:.0f} s; energy error {np.abs(res.energy['residual']).max() / 1e3:.1f} kJ "
@@ -90,7 +94,9 @@ def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.
                        if v is not None)
     outcome = ("numerical: " + res.failure_detail if res.numerical_failure
                else res.failure_mode or "no failure")
-    title = f"{pressure_mpa:g} MPa, B-PTS_037 at {sa_g:g} g, {mesh} mesh: {states}; {outcome}"
+    edges = f", edges rounded to {edge_radius_mm:g} mm" if edge_radius_mm else ""
+    title = (f"{pressure_mpa:g} MPa, B-PTS_037 at {sa_g:g} g, {mesh} mesh{edges}: {states}; "
+             f"{outcome}")
     clims = {"von_mises": (0.0, bearing.ultimate_stress / 1e6), "eq_plastic_strain": (0.0, 1.0)}
     render_result(OUT / f"{name}.png", res, title=title, clims=clims)
     # zoom on the first rim to hinge, at its deformed inner corner (vector dofs interleaved)
@@ -105,8 +111,9 @@ def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.
     frames = [s for s in res.snapshots if s[0] >= hinge - 0.05]
     frames = frames[:: max(1, len(frames) // FRAMES)]
     movie = dataclasses.replace(res, snapshots=tuple(frames))
-    render_movie(OUT / f"{name}.gif", movie, title=f"{pressure_mpa:g} MPa, finite deformation",
-                 fps=8, window=(1000, 625), clims=clims)
+    render_movie(OUT / f"{name}.gif", movie,
+                 title=f"{pressure_mpa:g} MPa, finite deformation{edges}", fps=8,
+                 window=(1000, 625), clims=clims)
 
 
 def main() -> None:
@@ -117,8 +124,13 @@ def main() -> None:
                     help="FE mesh (past-hinge)")
     ap.add_argument("--pressure", type=float, choices=(60.0, 10.0), default=60.0,
                     help="slider pressure [MPa] (past-hinge)")
+    ap.add_argument("--edge-radius", type=float, default=0.0,
+                    help="radius of the slider's rounded edges [mm] (past-hinge; 0: sharp)")
     args = ap.parse_args()
-    uplift() if args.case == "uplift" else past_the_hinge(args.sa, args.mesh, args.pressure)
+    if args.case == "uplift":
+        uplift()
+    else:
+        past_the_hinge(args.sa, args.mesh, args.pressure, args.edge_radius)
 
 
 if __name__ == "__main__":
