@@ -21,9 +21,16 @@
    (elements below it are solved with the small-strain elastic stiffness), beside the
    small-strain run.
 
+5. Finite against small strain over a set of runs past the hinge (``--past-hinge-set``): the
+   eight Ricker pulses of ``validation/studies/fem_uplift.py`` on the light bearing, coarse
+   mesh, run to the loss of containment, once each at both kinematics; the ratio of the
+   summed CPU times (one run's count of Newton iterations moves by about 10 % on round-off
+   alone, BENCHMARKS.md, so a set says more than one run).
+
 Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N] [--kinematics |
---active-gradient G ...]`` (about 10 minutes on 2 cores with the default 3 repeats;
-``--kinematics`` alone runs only part 3, about 8 minutes; part 4 about 1 minute per value).
+--active-gradient G ... | --past-hinge-set]`` (about 10 minutes on 2 cores with the default 3
+repeats; ``--kinematics`` alone runs only part 3, about 8 minutes; part 4 about 1 minute per
+value; part 5 about 5 minutes).
 ``--quick`` skips the 0.3 g run.
 """
 
@@ -147,6 +154,33 @@ def threshold_comparison(cache: str, repeat: int, thresholds: list[float]) -> No
         fem.finite_element.ACTIVE_GRADIENT = default
 
 
+def past_hinge_set(cache: str) -> None:
+    """Part 5 of the module docstring."""
+    from validation.studies.fem_uplift import DEFAULT
+
+    print("\nFinite against small strain, eight pulses past the hinge (light bearing, coarse "
+          "mesh):")
+    post_hinge_run(cache, duration=0.1)
+    total = {"small": 0.0, "finite": 0.0}
+    for case in DEFAULT:
+        tp, ap, *kind = case.split(":")
+        kind = "antisymmetric" if kind == ["a"] else "symmetric"
+        _, a = ricker_record(float(ap) * G, float(tp), kind, dt=0.005, free=3.0)
+        line = f"  {kind[:4]} Tp {tp} s, {ap} g:"
+        for kinematics in ("small", "finite"):
+            c0 = time.process_time()
+            res = fem.simulate(DFPBearing(pressure=10e6), a, 0.005, mesh_options=COARSE_MESH,
+                               max_step=0.01, failure_criterion="containment",
+                               kinematics=kinematics, cache_dir=cache)
+            cpu = time.process_time() - c0
+            total[kinematics] += cpu
+            line += (f" {kinematics} {cpu:.1f} s CPU, {res.newton_iterations} iterations, "
+                     f"{'failed by ' + res.failure_mode if res.failed else 'no failure'};")
+        print(line, flush=True)
+    print(f"  sum: small {total['small']:.1f} s, finite {total['finite']:.1f} s, ratio "
+          f"{total['finite'] / total['small']:.2f} (load {os.getloadavg()[0]:.1f})")
+
+
 def main() -> None:
     quick = "--quick" in sys.argv
     repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
@@ -155,6 +189,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as cache:
         if "--kinematics" in sys.argv:
             kinematics_comparison(cache, repeat)
+            return
+        if "--past-hinge-set" in sys.argv:
+            past_hinge_set(cache)
             return
         if "--active-gradient" in sys.argv:
             thresholds = []
