@@ -296,6 +296,7 @@ class Integrator:
                     continue
             if out is None:
                 self.rejected += 1
+                self.solver.thaw()  # Newton failed: fresh frozen tangents (Eq. F35a)
                 h *= 0.5
                 if h < ctl.min_step:
                     failed = True

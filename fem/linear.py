@@ -2,7 +2,8 @@ r"""Newton's linear solves for the HHT-α iteration, (c₀M + sK)x = r: a sparse
 matrix cached per step size, plus a low-rank (Woodbury) update for the few degrees of freedom
 that contact, plasticity or finite deformation touch, polished by iterative refinement against
 the exact matrix and backed by a direct sparse solve (docs/theory/finite-elements.md, Eqs.
-F32–F35). The linear systems are those of a direct solve; only the way they are solved differs.
+F32–F35). At small strain the linear systems are those of a direct solve; with finite
+deformation elastic elements may carry a frozen tangent (Eq. F35a).
 """
 
 from __future__ import annotations
@@ -19,6 +20,11 @@ from scipy.sparse.linalg import splu, spsolve
 #: "Linear solves"); more is refined, and what cannot be refined is solved directly.
 REFINE_TOL = 1e-12
 
+#: With finite kinematics, the number of elastic elements carrying their own tangent in the
+#: low-rank update beyond which the LU is refactored with their tangents in it, frozen
+#: (Eq. F35a; measured: BENCHMARKS.md, "Finite deformation against small strain").
+FREEZE_AFTER = 24
+
 
 def factorize(A: sp.spmatrix):
     """Sparse LU of a (nearly) symmetric matrix: minimum degree on Aᵀ + A, diagonal pivots
@@ -31,11 +37,17 @@ def factorize(A: sp.spmatrix):
 
 
 class _Base:
-    """LU of A = c₀M + sK_el for one (c₀, s) and the cached columns A⁻¹ e_j."""
+    """LU of A = c₀M + s(K_el + Σ D_e) for one (c₀, s), D_e the frozen elastic elements'
+    K_e − K_el,e (none at first; Eq. F35a), and the cached columns A⁻¹ e_j."""
 
-    def __init__(self, A, n, capacity):
+    def __init__(self, A, n, capacity, frozen=None, blocks=None):
         self.lu = factorize(A)
         self.A = A
+        self.frozen = frozen  # bool per element, or None
+        self.blocks = blocks  # D_e of the frozen elements, (m, 8, 8) in element order
+        self.stale = False  # refreeze at the next solve (TangentSolver.thaw)
+        if frozen is not None:
+            self.slot = np.cumsum(frozen) - 1
         self.last = (None, None, None)  # S, C = A⁻¹E_S (contiguous), G = Eᵀ C
         self.where = np.full(n, -1)  # reduced dof → column slot
         self.cols = np.empty((n, capacity), order="F")
@@ -75,8 +87,9 @@ class TangentSolver:
 
     Attributes
     ----------
-    factorizations, fallbacks, solves : int
-        Counters (fallbacks: direct sparse solves after a failed refinement).
+    factorizations, fallbacks, solves, freezes : int
+        Counters (fallbacks: direct sparse solves after a failed refinement; freezes:
+        factorizations with frozen element tangents, Eq. F35a).
     """
 
     def __init__(self, system, reduction, mass, *, keep: int = 4, capacity: int = 1200):
@@ -100,7 +113,7 @@ class TangentSolver:
         self._node = col[system.node_dofs].T  # (n, 2)
         self._slider = col[system.slider_dofs]
         self._bases: OrderedDict = OrderedDict()
-        self.factorizations = self.fallbacks = self.solves = 0
+        self.factorizations = self.fallbacks = self.solves = self.freezes = 0
 
     def _base(self, c0: float, s: float) -> _Base:
         key = (c0, s)
@@ -116,8 +129,10 @@ class TangentSolver:
             self._bases.move_to_end(key)
         return base
 
-    def modification(self, ev, s: float):
-        """The reduced dofs S and the dense block W = s(ΔK_mat + K_c) on them."""
+    def modification(self, ev, s: float, base: _Base | None = None):
+        """The reduced dofs S, the dense block W = s(ΔK_mat + K_c) on them (ΔK_mat taken
+        against ``base``'s frozen elements, which are left out while elastic), and the number
+        of elastic elements in it."""
         blocks, dofs = [], []
         con = ev.contact
         active = np.flatnonzero(con.active)
@@ -130,12 +145,17 @@ class TangentSolver:
         if vblocks.size:
             blocks.append(vblocks)
             dofs.append(self._col[vdofs])
-        elements, material = self.system.material_blocks(ev)
+        frozen = base.frozen if base is not None else None
+        elements, material = self.system.material_blocks(ev, frozen)
+        elastic = int((~ev.material.plastic[elements].any(axis=1)).sum())
+        if frozen is not None and elements.size:
+            hit = frozen[elements]  # frozen but yielding now: against their frozen block
+            material[hit] -= base.blocks[base.slot[elements[hit]]]
         if elements.size:
             blocks.append(material)
             dofs.append(self._elem[elements])
         if not blocks:
-            return np.zeros(0, dtype=int), np.zeros((0, 0))
+            return np.zeros(0, dtype=int), np.zeros((0, 0)), elastic
         # pad every block to 8 × 8 so that all can be scattered at once
         kk, dd = [], []
         for b, d in zip(blocks, dofs, strict=True):
@@ -153,11 +173,41 @@ class TangentSolver:
         keep = (loc[:, :, None] >= 0) & (loc[:, None, :] >= 0)
         flat = (loc[:, :, None] * S.size + loc[:, None, :])[keep]
         W = np.bincount(flat, s * B[keep], minlength=S.size * S.size).reshape(S.size, S.size)
-        return S, W
+        return S, W, elastic
+
+    def thaw(self) -> None:
+        """Make every factorization with frozen tangents refreeze them at its next solve (after
+        a step Newton could not do: the frozen tangents may have drifted too far; Eq. F35a)."""
+        for base in self._bases.values():
+            base.stale = True
+
+    def _freeze(self, ev, c0: float, s: float) -> _Base:
+        """Refactor the (c₀, s) base with the current tangents of every elastic element that
+        carries its own (Eq. F35a)."""
+        sysm = self.system
+        fe, mat = sysm.fe, ev.material
+        e = fe.active_elements(mat)
+        e = e[~mat.plastic[e].any(axis=1)]
+        D = (fe.element_tangent(sysm.material, mat, e)
+             - fe.element_stiffness(sysm.material.elastic_tangent(), e)) if e.size else (
+            np.zeros((0, 8, 8)))
+        dofs = self._elem[e]  # (m, 8), −1 fixed
+        keep = (dofs[:, :, None] >= 0) & (dofs[:, None, :] >= 0)
+        rows = np.broadcast_to(dofs[:, :, None], keep.shape)[keep]
+        cols = np.broadcast_to(dofs[:, None, :], keep.shape)[keep]
+        extra = sp.csr_matrix((s * D[keep], (rows, cols)), shape=(self.n, self.n))
+        A = (sp.diags(c0 * self.M) + s * self.K_el + extra).tocsc()
+        frozen = np.zeros(fe.element_dofs.shape[1], dtype=bool)
+        frozen[e] = True
+        base = _Base(A, self.n, self.capacity, frozen, D)
+        self.factorizations += 1
+        self.freezes += 1
+        self._bases[(c0, s)] = base
+        return base
 
     def solve(self, ev, c0: float, s: float, rhs: np.ndarray) -> np.ndarray:
         """x with (c₀ M + s K(ev)) x = rhs, to a relative residual ≤ :data:`REFINE_TOL`
-        (Eqs. F32–F35).
+        (Eqs. F32–F35), K with the frozen elastic tangents of Eq. F35a if any.
 
         Parameters
         ----------
@@ -170,7 +220,12 @@ class TangentSolver:
         """
         self.solves += 1
         base = self._base(c0, s)
-        S, W = self.modification(ev, s)
+        if base.frozen is not None and base.stale:
+            base = self._freeze(ev, c0, s)
+        S, W, elastic = self.modification(ev, s, base)
+        if self.system.finite and elastic > FREEZE_AFTER:
+            base = self._freeze(ev, c0, s)
+            S, W, elastic = self.modification(ev, s, base)
         if S.size > self.capacity:  # too much yields or touches for a low-rank update
             return self._direct(ev, c0, s, rhs)
         S_last, Cs, Gs = base.last

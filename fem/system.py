@@ -179,10 +179,17 @@ class CoupledSystem:
             K = K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=K.shape)
         return K
 
-    def material_blocks(self, ev: Evaluation):
+    def material_blocks(self, ev: Evaluation, skip=None):
         """The elements whose material tangent differs from the elastic small-strain stiffness
         K_el of :attr:`fe` (yielding, or, with finite kinematics, also noticeably deformed:
         :meth:`fem.finite_element.FiniteStrainQ1.active_elements`), and K_mat − K_el on them.
+
+        Parameters
+        ----------
+        ev : Evaluation
+        skip : ndarray of bool, shape (nelems,), optional
+            Finite kinematics: elements left out unless a point of theirs yields
+            (:class:`fem.linear.TangentSolver`'s frozen ones).
 
         Returns
         -------
@@ -193,6 +200,8 @@ class CoupledSystem:
         elastic = self.material.elastic_tangent()
         if self.finite:
             e = fe.active_elements(mat)
+            if skip is not None:
+                e = e[~skip[e] | mat.plastic[e].any(axis=1)]
             exact = fe.element_tangent(self.material, mat, e) if e.size else np.zeros((0, 8, 8))
         else:
             e = np.flatnonzero(mat.plastic.any(axis=1))

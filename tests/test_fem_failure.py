@@ -161,7 +161,7 @@ def light_pulse():
 
 def light_run(cache, **kwargs):
     """The light bearing's uplift runs at small strain: they are about the mechanism and the
-    energy step control; with finite deformation the same flight and landing costs 10 times
+    energy step control; with finite deformation the same flight and landing costs 5–10 times
     more and closes its energy balance less well (docs/fe-companion.md, "Finite deformation")."""
     return fem.simulate(DFPBearing(pressure=10e6), light_pulse(), 0.005, mesh_options=COARSE_MESH,
                         max_step=0.01, duration=3.0, cache_dir=cache, kinematics="small",
