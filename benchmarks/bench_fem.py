@@ -156,21 +156,19 @@ def threshold_comparison(cache: str, repeat: int, thresholds: list[float]) -> No
 
 def past_hinge_set(cache: str) -> None:
     """Part 5 of the module docstring."""
-    from validation.studies.fem_uplift import DEFAULT
+    from validation.studies.fem_uplift import DEFAULT, FE_OPTIONS, parse_case, pulse
 
     print("\nFinite against small strain, eight pulses past the hinge (light bearing, coarse "
           "mesh):")
     post_hinge_run(cache, duration=0.1)
     total = {"small": 0.0, "finite": 0.0}
     for case in DEFAULT:
-        tp, ap, *kind = case.split(":")
-        kind = "antisymmetric" if kind == ["a"] else "symmetric"
-        _, a = ricker_record(float(ap) * G, float(tp), kind, dt=0.005, free=3.0)
-        line = f"  {kind[:4]} Tp {tp} s, {ap} g:"
+        tp, ap, kind = parse_case(case)
+        a = pulse(tp, ap, kind)
+        line = f"  {kind[:4]} Tp {tp:g} s, {ap:g} g:"
         for kinematics in ("small", "finite"):
             c0 = time.process_time()
-            res = fem.simulate(DFPBearing(pressure=10e6), a, 0.005, mesh_options=COARSE_MESH,
-                               max_step=0.01, failure_criterion="containment",
+            res = fem.simulate(DFPBearing(pressure=10e6), a, 0.005, **FE_OPTIONS,
                                kinematics=kinematics, cache_dir=cache)
             cpu = time.process_time() - c0
             total[kinematics] += cpu

@@ -35,16 +35,29 @@ from rigid import DFPBearing, G, ricker_record
 #: ``--small`` runs the FE model at small strain (the study's first version).
 KINEMATICS = "small" if "--small" in sys.argv else "finite"
 DEFAULT = ["2:0.8", "1:2.0", "0.5:3.0", "3:0.8", "1:1.0", "2:1.5", "2:1.0:a", "1:2.0:a"]
+#: The FE runs' settings besides the kinematics: coarse mesh, run to the loss of containment.
+FE_OPTIONS = {"mesh_options": COARSE_MESH, "max_step": 0.01, "failure_criterion": "containment"}
+
+
+def parse_case(case: str) -> tuple[float, float, str]:
+    """Tp [s], Ap [g] and kind of a case written ``Tp:Ap_g`` or ``Tp:Ap_g:a`` (antisymmetric)."""
+    parts = case.split(":")
+    return float(parts[0]), float(parts[1]), ("antisymmetric" if parts[2:] == ["a"]
+                                              else "symmetric")
+
+
+def pulse(tp: float, ap_g: float, kind: str) -> np.ndarray:
+    """The Ricker pulse's ground acceleration [m/s²], every 0.005 s, 3 s of rest after it."""
+    return ricker_record(ap_g * G, tp, kind, dt=0.005, free=3.0)[1]
 
 
 def one(bearing, tp, ap_g, cache, kind="symmetric", vertices=False):
     """Rigid and FE outcome of one pulse; returns a printable line."""
-    _, a = ricker_record(ap_g * G, tp, kind, dt=0.005, free=3.0)
+    a = pulse(tp, ap_g, kind)
     rb = rigid.simulate(bearing, a, 0.005)
     v_imp = max((abs(i.velocity) for i in rb.impacts), default=0.0)
     c0 = time.process_time()
-    res = fem.simulate(bearing, a, 0.005, mesh_options=COARSE_MESH, max_step=0.01,
-                       failure_criterion="containment", vertex_contact=vertices,
+    res = fem.simulate(bearing, a, 0.005, **FE_OPTIONS, vertex_contact=vertices,
                        kinematics=KINEMATICS, cache_dir=cache)
     cpu = time.process_time() - c0
     W = bearing.weight
@@ -98,10 +111,8 @@ def main() -> None:
           f"V_u = {t * bearing.ultimate_stress / math.sqrt(3) * depth / 1e6:.2f} MN")
     with tempfile.TemporaryDirectory() as cache:
         for case in cases:
-            parts = case.split(":")
-            kind = "antisymmetric" if parts[2:] == ["a"] else "symmetric"
-            print(one(bearing, float(parts[0]), float(parts[1]), cache, kind,
-                      "--vertices" in sys.argv), flush=True)
+            tp, ap_g, kind = parse_case(case)
+            print(one(bearing, tp, ap_g, cache, kind, "--vertices" in sys.argv), flush=True)
 
 
 if __name__ == "__main__":

@@ -67,6 +67,19 @@ def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
     return searches, owners
 
 
+def stored_runs(out: Path, settings: Settings, motions):
+    """Every FE run of the run's searches that its store holds: (stored result, keyword
+    arguments of :func:`validation.fem_runs.fem_run`, the record's motion, SA [g])."""
+    searches, _ = replayed(out, settings, motions)
+    with ResultStore(out / "results.sqlite") as store:
+        for key, (i, j) in searches.by_key.items():
+            result = store.get(key)
+            if result is not None:
+                _, kwargs = searches.run_key(i, j)
+                yield (result, kwargs, searches.targets[i][1],
+                       (searches.start + j * searches.step) / G)
+
+
 def replay(out: Path, settings: Settings, motions) -> list[dict]:
     """One row per (pressure, record, limit state): the report's FE comparison row
     (:func:`validation.report.write.fem_rows`) of the stored answers so far, and whether the

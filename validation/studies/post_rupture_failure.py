@@ -25,13 +25,12 @@ from threadpoolctl import threadpool_limits
 
 from fem.dynamics import Integrator
 from fem.finite_element import FiniteStrainQ1
-from rigid import G, fema_p695
+from rigid import fema_p695
 from rigid.collapse.comparison import write_csv
-from rigid.tasks import ResultStore
 from validation.fem_runs import fem_run
 
 from . import IMAGES, RESULTS
-from .fem_validation_status import ROOT, replayed, run_settings
+from .fem_validation_status import ROOT, run_settings, stored_runs
 
 
 class JacobianWatch:
@@ -69,17 +68,9 @@ class JacobianWatch:
 def numerical_runs(out: Path, settings, motions) -> list:
     """The stored FE runs of a validation run that ended numerically: (stored result,
     keyword arguments of :func:`fem_run`, record name, SA [g]), shortest first."""
-    searches, _ = replayed(out, settings, motions)
-    found = []
-    with ResultStore(out / "results.sqlite") as store:
-        for key, (i, j) in searches.by_key.items():
-            result = store.get(key)
-            if result is None or not result["numerical_failure"]:
-                continue
-            _, kwargs = searches.run_key(i, j)
-            motion = searches.targets[i][1]
-            sa = (searches.start + j * searches.step) / G
-            found.append((result, kwargs, motion.name, sa))
+    found = [(result, kwargs, motion.name, sa)
+             for result, kwargs, motion, sa in stored_runs(out, settings, motions)
+             if result["numerical_failure"]]
     return sorted(found, key=lambda f: f[0]["wall_seconds"])
 
 

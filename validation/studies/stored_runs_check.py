@@ -31,13 +31,12 @@ from pathlib import Path
 
 from threadpoolctl import threadpool_limits
 
-from rigid import G, fema_p695
+from rigid import fema_p695
 from rigid.collapse.comparison import write_csv
-from rigid.tasks import ResultStore
 from validation.fem_runs import fem_run
 
 from . import RESULTS
-from .fem_validation_status import ROOT, replayed, run_settings
+from .fem_validation_status import ROOT, run_settings, stored_runs
 
 #: The stored fields compared (those of :func:`validation.fem_runs.fem_run`'s result).
 FIELDS = ("failed", "failure_mode", "failure_time", "numerical_failure", "detail",
@@ -49,19 +48,11 @@ VERDICT = ("failed", "failure_mode", "numerical_failure")
 def collect(out: Path, settings, motions, per_pressure: int) -> list[dict]:
     """The sample of stored runs (module docstring, step 1): record name, SA [g], the
     arguments of :func:`fem_run` without the acceleration, and the stored result."""
-    searches, _ = replayed(out, settings, motions)
     runs = {}
-    with ResultStore(out / "results.sqlite") as store:
-        for key, (i, j) in searches.by_key.items():
-            result = store.get(key)
-            if result is None:
-                continue
-            _, kwargs = searches.run_key(i, j)
-            motion = searches.targets[i][1]
-            args = {k: v for k, v in kwargs.items() if k != "acceleration"}
-            runs.setdefault(args["bearing"]["pressure"], []).append({
-                "record": motion.name, "sa_g": (searches.start + j * searches.step) / G,
-                "arguments": args, "stored": result})
+    for result, kwargs, motion, sa in stored_runs(out, settings, motions):
+        args = {k: v for k, v in kwargs.items() if k != "acceleration"}
+        runs.setdefault(args["bearing"]["pressure"], []).append({
+            "record": motion.name, "sa_g": sa, "arguments": args, "stored": result})
     sample = []
     for pressure in sorted(runs):
         found = sorted(runs[pressure], key=lambda r: r["stored"]["wall_seconds"])
