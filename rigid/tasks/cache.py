@@ -37,8 +37,10 @@ MODEL_CODE = {
     "motions": ("rigid/motions",),
     # ladders, predictions, trimming
     "collapse": ("rigid/collapse",),
-    # the FE companion and its geometry
+    # the FE companion and its geometry (not its 3-D rim pushes, fem/ring: below)
     "fem": ("fem", "meshes"),
+    # the 3-D static pushes of the rim as a ring
+    "fem-ring": ("fem/ring",),
     # one FE run of the validation: trimming and the end-of-run energy check
     "fem-run": ("validation/fem_runs.py",),
     # one FE run of a Ricker pulse (the yielding-rims study)
@@ -57,9 +59,14 @@ def cache_root() -> Path:
 
 
 def _files(entry: str) -> list[Path]:
+    """The files of one entry of :data:`MODEL_CODE`; a folder's exclude the sub-folders that
+    are entries of their own (``fem/ring`` is not part of ``fem``)."""
     path = ROOT / entry
     if path.is_dir():
-        return sorted(p for p in path.rglob("*") if p.suffix in (".py", ".geo"))
+        own = [ROOT / e for codes in MODEL_CODE.values() for e in codes
+               if e != entry and (ROOT / e).is_relative_to(path)]
+        return sorted(p for p in path.rglob("*") if p.suffix in (".py", ".geo")
+                      and not any(p.is_relative_to(o) for o in own))
     return [path]
 
 
