@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rigid.bearing import DFPBearing
+from rigid.limit_states import check_limit_state, deprecated_attribute, renamed_limit_state
 
 from .limit_states import LIMIT_STATES, RIMS, LimitStates
 
@@ -60,8 +61,9 @@ class FEMResult:
     limit_states : dict
         ``"hinge"``, ``"rupture"``, ``"containment"`` → the time [s] the run first reached it,
         or None (not reached before the run ended; Eqs. F36, F51–F53).
-    failure_criterion : {"hinge", "rupture", "containment"}
-        The limit state that defines ``failed`` (containment is failure under any criterion).
+    limit_state : {"hinge", "rupture", "containment"}
+        The limit state that defines ``failed`` (containment is failure under any limit
+        state); ``failure_criterion`` is its deprecated alias.
     kinematics : {"small", "finite"}
     energy : dict of ndarray [J]
         ``input``, ``kinetic``, ``strain``, ``plastic``, ``contact``, ``friction``,
@@ -107,7 +109,7 @@ class FEMResult:
     max_plastic_strain: float
     hinge_times: dict
     limit_states: dict
-    failure_criterion: str
+    limit_state: str
     kinematics: str
     energy: dict
     failed: bool
@@ -128,6 +130,8 @@ class FEMResult:
     bearing: DFPBearing
     mesh: object = field(repr=False)
     edge_radius: float = 0.0
+
+    failure_criterion = deprecated_attribute("failure_criterion")
 
     @property
     def max_displacement(self) -> float:
@@ -154,6 +158,7 @@ class FEMResult:
         return head + "\nno failure"
 
 
+@renamed_limit_state()
 def simulate(
     bearing: DFPBearing,
     acceleration,
@@ -167,7 +172,7 @@ def simulate(
     penalty_factor: float = 10.0,
     stop_at_failure: bool = True,
     snapshot_every: int = 0,
-    failure_criterion: str = "hinge",
+    limit_state: str = "hinge",
     vertex_contact: bool = False,
     plasticity: bool = True,
     kinematics: str = "finite",
@@ -201,10 +206,12 @@ def simulate(
         Stop at the first failure (default).
     snapshot_every : int
         Keep the full field every n accepted steps for movies (0: none).
-    failure_criterion : {"hinge", "rupture", "containment"}
+    limit_state : {"hinge", "rupture", "containment"}
         The limit state that ends the run (with ``stop_at_failure``) and defines ``failed``:
         the first rim hinge, the rupture of a rim, or the loss of containment (the slider got
-        past a rim or overturned), which is failure under any criterion. All three are
+        past a rim or overturned), which is failure under any limit state (checked by
+        :func:`rigid.limit_states.check_limit_state`; ``failure_criterion``: its deprecated
+        name). All three are
         recorded in ``limit_states`` as far as the run goes (docs/theory/finite-elements.md,
         "Limit states").
     vertex_contact : bool
@@ -236,16 +243,14 @@ def simulate(
     -------
     FEMResult
     """
-    from rigid.model import check_model_input
+    from rigid.inputs import check_model_input
 
     from .dfp import build_system
     from .dynamics import HHTParameters, Integrator, StepControl
 
     a, duration = check_model_input(bearing, acceleration, dt, duration)
     record_end = (a.size - 1) * dt
-    if failure_criterion not in LIMIT_STATES:
-        raise ValueError(f"failure_criterion must be one of {', '.join(LIMIT_STATES)}, got "
-                         f"{failure_criterion!r}")
+    limit_state = check_limit_state(limit_state)
     if not (0 < impact_step <= max_step):
         raise ValueError("need 0 < impact_step ≤ max_step")
     t_grid = np.arange(a.size) * dt
@@ -322,7 +327,7 @@ def simulate(
                                f"{max(regular):.3g} at t = {t:.4f} s, beyond the model's range")
             return True
         if not verdict:
-            failed, when, mode, detail = watch.verdict(failure_criterion)
+            failed, when, mode, detail = watch.verdict(limit_state)
             if failed:
                 if when <= first_step[0] and abs(hist["x"][-1]) < 1e-3:
                     verdict["numerical"] = (f"failure at the first step ({detail}) without "
@@ -365,7 +370,7 @@ def simulate(
         max_plastic_strain=float(state.material.eq_plastic_strain.max()),
         hinge_times=dict(watch.hinge_times),
         limit_states=dict(watch.times),
-        failure_criterion=failure_criterion,
+        limit_state=limit_state,
         kinematics=kinematics,
         energy={k: v * depth for k, v in out["energy"].items()},
         failed=failed,

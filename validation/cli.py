@@ -19,7 +19,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from rigid.limit_states import LIMIT_STATES
+from rigid.limit_states import LIMIT_STATES, RIM_MODELS, check_limit_state
 from rigid.limits import (
     MAX_RECORD_ACCELERATION,
     MAX_SA_STOP,
@@ -166,7 +166,7 @@ def simulate(args) -> int:
           f" period {bearing.period:.2f} s)")
     print(title)
     try:
-        result = run(bearing, acceleration, dt, **_rim_options(args))
+        result = run(bearing, acceleration, dt, **_rim_options(args, bearing))
     except NumericalInstabilityError as exc:
         raise _no_answer("the rigid model's integration stayed unstable; the run gives no "
                          "verdict", exc) from None
@@ -210,7 +210,7 @@ def critical(args) -> int:
 
     bearing = _bearing(args)
     motion = _record(args)
-    rims = _rim_options(args)
+    rims = _rim_options(args, bearing)
     actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
                          after_failure=args.after_failure, **rims)
     print(actual.summary())
@@ -334,7 +334,7 @@ def _bearing_args(p):
 
 
 def _rim_args(p):
-    p.add_argument("--rims", choices=("rigid", "yielding"), default="rigid",
+    p.add_argument("--rims", choices=RIM_MODELS, default="rigid",
                    help="rim model: rigid (the paper's, default) or yielding (elastoplastic "
                    "rims derived from the FE companion's rim push)")
     p.add_argument("--limit-state", choices=LIMIT_STATES,
@@ -342,12 +342,19 @@ def _rim_args(p):
                    "its rupture, or the loss of containment (rigid rims: containment only)")
 
 
-def _rim_options(args) -> dict:
-    """The rim model and failure criterion of :func:`rigid.simulate` from the arguments."""
+def _rim_options(args, bearing) -> dict:
+    """The rim model, limit state and (yielding rims) rim law of :func:`rigid.simulate` from
+    the arguments; the law from the FE companion's rim push (:func:`fem.rim_law`, cached)."""
     if args.rims == "rigid" and args.limit_state not in (None, "containment"):
         raise CommandError(f"--limit-state {args.limit_state} needs --rims yielding (rigid "
                            "rims cannot yield)")
-    return {"rims": args.rims, "failure_criterion": args.limit_state}
+    limit_state = check_limit_state(args.limit_state, rims=args.rims)
+    options = {"rims": args.rims, "limit_state": limit_state}
+    if args.rims == "yielding":
+        from fem import rim_law
+
+        options["rim_law"] = rim_law(bearing)
+    return options
 
 
 def _record_args(p, required):
@@ -463,7 +470,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--limit-state", nargs="+", choices=LIMIT_STATES, default=["hinge"],
                    help="FE limit states searched, each its own FE critical SA sharing the "
                    "same runs (default hinge; docs/theory/finite-elements.md, 'Limit states')")
-    p.add_argument("--rims", nargs="+", choices=("rigid", "yielding"),
+    p.add_argument("--rims", nargs="+", choices=RIM_MODELS,
                    default=["rigid", "yielding"],
                    help="rim models of the rigid model's ladders (default both; rigid rims, "
                    "the paper's model, always run); with yielding rims one ladder per limit "

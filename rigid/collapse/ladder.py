@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bearing import DFPBearing
+from ..limit_states import check_limit_state, deprecated_attribute, renamed_limit_state
 from ..motions.spectra import pseudo_acceleration
 from ..tasks import ResultStore, cache_root, task_key
 from ..units import G
@@ -90,8 +91,9 @@ class CriticalSA:
     capped : bool
         The ladder stops below the ``stop`` asked for: higher rungs would scale the record's
         peak acceleration beyond :data:`rigid.limits.MAX_MODEL_ACCELERATION`.
-    rims, failure_criterion : str
-        The rim model and the limit state that defined failure (:func:`rigid.simulate`).
+    rims, limit_state : str
+        The rim model and the limit state that defined failure (:func:`rigid.simulate`;
+        ``failure_criterion``: the deprecated name of ``limit_state``).
     """
 
     sa: float | None
@@ -107,7 +109,9 @@ class CriticalSA:
     cpu_seconds: float = 0.0
     capped: bool = False
     rims: str = "rigid"
-    failure_criterion: str = "containment"
+    limit_state: str = "containment"
+
+    failure_criterion = deprecated_attribute("failure_criterion")
 
     @property
     def failed(self) -> bool:
@@ -173,7 +177,7 @@ class CriticalSA:
             extra += (f"; ladder ends at {self.stop / G:.2f} g (higher rungs would scale the "
                       f"record beyond the models' {MAX_MODEL_ACCELERATION / G:g} g)")
         rims = ("" if self.rims == "rigid"
-                else f", {self.rims} rims, failure = {self.failure_criterion}")
+                else f", {self.rims} rims, failure = {self.limit_state}")
         return f"{self.name}: {crit} ({len(self.rungs)} rungs, {self.search}{rims}){extra}"
 
 
@@ -272,6 +276,7 @@ def _run_rung(bearing, acc, dt, scale, sim) -> dict:
     }
 
 
+@renamed_limit_state()
 def critical_sa(
     bearing: DFPBearing,
     motion,
@@ -292,7 +297,8 @@ def critical_sa(
     impact_merge_time: float = 0.05,
     coarse_factor: int | None = None,
     rims: str = "rigid",
-    failure_criterion: str | None = None,
+    limit_state: str | None = None,
+    rim_law=None,
 ) -> CriticalSA:
     """Critical SA(Tb) of a record: the first failing rung of a scaling ladder (paper §4.2;
     Eqs. C1–C3).
@@ -340,9 +346,13 @@ def critical_sa(
     max_step, impact_merge_time, coarse_factor
         Passed to :func:`rigid.simulate` (which runs with ``stop_when_quiet=True``,
         ``stop_at_failure=True`` and ``on_instability="refine"``, for the record plus ``free``).
-    rims, failure_criterion : str
+    rims, limit_state : str
         The rim model and the limit state that defines failure (:func:`rigid.simulate`;
-        default the rim model's: "containment" for rigid rims, "hinge" for yielding ones).
+        default the rim model's: "containment" for rigid rims, "hinge" for yielding ones;
+        ``failure_criterion``: the deprecated name of ``limit_state``).
+    rim_law : rigid.rims.RimLaw
+        The yielding rims' law (``fem.rim_law(bearing)``), needed with ``rims="yielding"``
+        (:func:`rigid.simulate`); part of the rungs' key.
 
     Returns
     -------
@@ -361,12 +371,14 @@ def critical_sa(
 
     if not (math.isfinite(free) and free >= 0):
         raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
-    from ..model import _check_rims
-
-    criterion = _check_rims(rims, failure_criterion)
+    limit_state = check_limit_state(limit_state, rims=rims)
     sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
            "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free),
-           "rims": rims, "failure_criterion": criterion}
+           "rims": rims, "limit_state": limit_state}
+    if rims == "yielding":
+        from ..rims import resolve_rim_law
+
+        sim["rim_law"] = resolve_rim_law(bearing, rim_law, stacklevel=3)
     if sim["max_step"] is None:
         from ..model import DEFAULT_MAX_STEP
 
@@ -419,7 +431,7 @@ def critical_sa(
         cpu_seconds=cpu[0],
         capped=capped,
         rims=rims,
-        failure_criterion=criterion,
+        limit_state=limit_state,
     )
 
 
@@ -522,6 +534,10 @@ def critical_sas(
 
     motions = list(motions)
     kwargs = {**kwargs, "cache": cache}
+    if kwargs.get("rims") == "yielding":  # the law once, here, not in every worker
+        from ..rims import resolve_rim_law
+
+        kwargs["rim_law"] = resolve_rim_law(bearing, kwargs.get("rim_law"), stacklevel=3)
     processes = (os.cpu_count() or 1) if processes is None else int(processes)
     tasks = [Task(str(i), "critical-sa", _record_task,
                   {"bearing": bearing, "motion": m, "kwargs": kwargs})

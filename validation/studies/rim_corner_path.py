@@ -58,7 +58,7 @@ def fe_corner_paths(bearing: DFPBearing, tp: float, kind: str, amplitude: float)
     motion = pulse_motion(tp, kind)
     res = simulate(bearing, amplitude * motion.acceleration, motion.dt,
                    mesh_options=COARSE_MESH, max_step=5e-3, impact_step=5e-4,
-                   kinematics="finite", failure_criterion="containment",
+                   kinematics="finite", limit_state="containment",
                    snapshot_every=SNAPSHOT_EVERY)
     return res, {name: [(t, *corner_motion(res.mesh, bearing, d, name))
                         for t, d, _, _ in res.snapshots] for name in RIMS}

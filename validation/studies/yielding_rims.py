@@ -22,6 +22,7 @@ import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
+import fem
 import rigid
 from rigid import DFPBearing, G, GroundMotion, ricker_record
 from rigid.tasks import ResultStore
@@ -121,7 +122,8 @@ def write_table(fe: dict, path: Path) -> None:
             cache[name, tp, kind] = rigid_critical_amplitude(bearing, motion)[0]
         rigid_rims = cache[name, tp, kind]
         yielding, numerical = rigid_critical_amplitude(bearing, motion, rims="yielding",
-                                                       failure_criterion=state)
+                                                       limit_state=state,
+                                                       rim_law=fem.rim_law(bearing))
         fe_sa = r.sa
         rows.append({
             "bearing": name, "pressure_MPa": BEARINGS[name] / 1e6, "kind": kind, "Tp_s": tp,
