@@ -1,6 +1,7 @@
 """Critical SA(Tb) of a record by time history: the 0.01 g scaling ladder of the rigid model
-(paper §4.2), with every rung kept (resurrections), an optional coarse-then-fine search, record
-sets in parallel, and a resumable cache of rungs in ``ladders.sqlite`` under the library's one
+(paper §4.2), with every rung kept (resurrections), an optional coarse-then-fine search
+(:mod:`rigid.collapse.search`), record sets in parallel (:mod:`rigid.collapse.record_set`),
+and a resumable cache of rungs in ``ladders.sqlite`` under the library's one
 key (docs/theory/collapse.md, Eqs. C1–C4; its "Trimming" section says why records are not
 trimmed here).
 """
@@ -8,7 +9,6 @@ trimmed here).
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,9 +20,20 @@ from ..limit_states import check_limit_state, deprecated_attribute, renamed_limi
 from ..motions.spectra import pseudo_acceleration
 from ..tasks import ResultStore, cache_root, task_key
 from ..units import G
+from .search import coarse_scan, fast_search
 
 __all__ = ["CriticalSA", "Rung", "as_record", "check_ladder", "coarse_scan", "critical_sa",
-           "critical_sas", "fast_search", "record_ladder"]
+           "fast_search", "record_ladder"]
+
+
+def __getattr__(name):
+    # record sets (critical_sas) live in .record_set, which imports this module: re-exported
+    # lazily so that ``from rigid.collapse.ladder import critical_sas`` keeps working
+    if name in ("critical_sas", "pool_context"):
+        from . import record_set
+
+        return getattr(record_set, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 _SEARCHES = ("full", "fast")
 
@@ -433,117 +444,3 @@ def critical_sa(
         rims=rims,
         limit_state=limit_state,
     )
-
-
-def coarse_scan(hit, n_rungs: int, coarse: int) -> tuple[list, int | None]:
-    """Every ``coarse``-th rung (and the last) up to the first j with ``hit(j)``: the rungs
-    run and that first hit (None if none). The first stage of the fast searches."""
-    ends = []
-    for j in range(coarse - 1, n_rungs + coarse - 1, coarse):
-        j = min(j, n_rungs - 1)
-        ends.append(j)
-        if hit(j):
-            return ends, j
-        if j == n_rungs - 1:
-            break
-    return ends, None
-
-
-def fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
-    """Index of the lowest failing rung found by the coarse-then-fine search, or None (Eq. C4
-    of docs/theory/collapse.md).
-
-    ``rung(j)`` runs (or looks up) rung j and returns an object with ``failed`` and
-    ``max_impact_velocity`` [m/s]; ``done`` maps the rungs run so far to those objects;
-    ``coarse`` and ``ratio`` are :func:`critical_sa`'s ``coarse`` and ``refine_ratio``."""
-    # coarse rungs run, up to the first coarse failure
-    ends, first = coarse_scan(lambda j: rung(j).failed, n_rungs, coarse)
-    if first is None:
-        return None
-
-    def speed(j):
-        v = rung(j).max_impact_velocity if j >= 0 else 0.0
-        return v if math.isfinite(v) else math.inf  # unknown (numerical failure): scan
-
-    scanned = set()
-    while True:
-        v_fail = min(speed(j) for j, r in done.items() if r.failed)
-        intervals = [(lo, hi) for lo, hi in zip([-1, *ends[:-1]], ends, strict=True)
-                     if lo < first and (lo, hi) not in scanned
-                     and max(speed(lo), speed(hi)) >= ratio * v_fail]  # Eq. C4
-        if not intervals:
-            return first
-        lo, hi = intervals[0]
-        scanned.add((lo, hi))
-        for j in range(lo + 1, min(hi, first)):
-            if rung(j).failed:
-                first = j
-                break
-
-
-# --------------------------------------------------------------------------- record sets
-
-
-def _record_task(bearing, motion, kwargs):
-    return critical_sa(bearing, motion, **kwargs)
-
-
-def pool_context():
-    """The multiprocessing context of :func:`critical_sas`'s pool (also used by the critical-SA
-    study)."""
-    import multiprocessing as mp
-
-    # numba-compiled code and fork can deadlock (threads/locks copied); prefer forkserver
-    methods = mp.get_all_start_methods()
-    return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
-
-
-def critical_sas(
-    bearing: DFPBearing,
-    motions,
-    *,
-    processes: int | None = None,
-    progress: bool = True,
-    cache=True,
-    **kwargs,
-) -> list[CriticalSA]:
-    """Critical SA of every record of a set, in parallel, with progress and a resumable cache.
-
-    Parameters
-    ----------
-    bearing : DFPBearing
-    motions : sequence of GroundMotion
-    processes : int, optional
-        Worker processes of :func:`rigid.tasks.run_tasks` (forkserver, else spawn
-        context); default ``os.cpu_count()``; 1 (or a single record) runs in this process.
-        On any exception (Ctrl-C included) the records not started are cancelled and the
-        workers terminated; finished rungs are already in the cache.
-    progress : bool
-        Show a tqdm progress bar over records (stderr).
-    cache : None, True, str or Path
-        Rung cache directory (see :func:`critical_sa`); default the user cache.
-    **kwargs
-        Passed to :func:`critical_sa` (step, stop, search, after_failure, …).
-
-    Returns
-    -------
-    list of CriticalSA
-        In the order of ``motions``.
-    """
-    from ..tasks import Task, run_tasks
-
-    motions = list(motions)
-    kwargs = {**kwargs, "cache": cache}
-    if kwargs.get("rims") == "yielding":  # the law once, here, not in every worker
-        from ..rims import resolve_rim_law
-
-        kwargs["rim_law"] = resolve_rim_law(bearing, kwargs.get("rim_law"), stacklevel=3)
-    processes = (os.cpu_count() or 1) if processes is None else int(processes)
-    tasks = [Task(str(i), "critical-sa", _record_task,
-                  {"bearing": bearing, "motion": m, "kwargs": kwargs})
-             for i, m in enumerate(motions)]
-    results = run_tasks(tasks, None, workers=1 if len(motions) <= 1 else max(1, processes),
-                        progress=bool(progress), unit="record",
-                        description=f"critical SA ({bearing.pressure / 1e6:g} MPa)",
-                        start_method=pool_context().get_start_method())
-    return [results[t.key] for t in tasks]

@@ -264,7 +264,8 @@ def predict_critical_sa(
     -------
     PredictedSA
     """
-    from .ladder import as_record, check_ladder, coarse_scan, record_ladder
+    from .ladder import as_record, check_ladder, record_ladder
+    from .search import coarse_scan
 
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     period = bearing.design_period if period is None else float(period)
