@@ -104,6 +104,20 @@ def test_the_exceptions_are_still_needed():
         assert any(i.startswith(target) for i in imports[module]), (module, target)
 
 
+#: Longest module [lines] (issue #33: small single-purpose modules); the Numba kernel, one
+#: compiled unit, is the exception.
+MAX_MODULE_LINES = 500
+LONG_MODULES = {"rigid/_kernel.py"}
+
+
+def test_every_module_is_short():
+    long = sorted(f"{p.relative_to(ROOT)}: {n} lines"
+                  for package in PACKAGES for p in (ROOT / package).rglob("*.py")
+                  if str(p.relative_to(ROOT)) not in LONG_MODULES
+                  and (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES)
+    assert long == []
+
+
 BLOCKED_RUN = textwrap.dedent("""
     import importlib.abc, sys, warnings
 
