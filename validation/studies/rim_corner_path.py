@@ -25,7 +25,8 @@ import numpy as np
 from rigid import DFPBearing, G
 from rigid.rims import LEVER_FRACTION
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import IMAGES, RESULTS
+
 #: The case: heavy bearing, symmetric pulse, Tp = 2 s; FE containment lost at 0.45 g, held at
 #: 0.40 g (docs/results/yielding_rims_vs_fe.csv); the rigid model loses it at 0.35 g.
 CASE = {"pressure": 60e6, "tp": 2.0, "kind": "symmetric", "amplitudes_g": (0.40, 0.45)}
@@ -82,8 +83,8 @@ def link_corner(bearing: DFPBearing, plastic_set) -> np.ndarray:
 
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--csv", type=Path, default=ROOT / "docs/results/rim_corner_path.csv")
-    p.add_argument("--figure", type=Path, default=ROOT / "docs/images/rim_corner_path.png")
+    p.add_argument("--csv", type=Path, default=RESULTS / "rim_corner_path.csv")
+    p.add_argument("--figure", type=Path, default=IMAGES / "rim_corner_path.png")
     p.add_argument("--plot-only", action="store_true", help="redraw the figure from the CSV")
     args = p.parse_args(argv)
     bearing = DFPBearing(pressure=CASE["pressure"])
