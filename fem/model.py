@@ -8,7 +8,7 @@ docs/fe-companion.md). Same input conventions as :func:`rigid.simulate`."""
 from __future__ import annotations
 
 import time as _time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -266,8 +266,78 @@ def simulate(
     )
     sysm, red, mesh = model.system, model.reduction, model.mesh
     depth = model.depth
-    nodes = sysm.nodes
-    # slave nodes per rim (inner face and top), for forces and the impact step control
+    rim_of = _rim_of_nodes(model)
+    rim_mask = rim_of >= 0
+    watch = LimitStates(bearing, model)
+    observer = _Observer(
+        model=model, rim_of=rim_of, watch=watch, limit_state=limit_state,
+        stop_at_failure=stop_at_failure, snapshot_every=snapshot_every, first_step=max_step,
+        top_rows=red.P.getcol(model.top_x).nonzero()[0],
+        top_z_rows=red.P.getcol(model.top_z).nonzero()[0],
+    )
+
+    integ = Integrator(
+        model, ground, hht=HHTParameters(alpha),
+        control=StepControl(
+            max_step=max_step, impact_step=impact_step,
+            energy_tol=energy_tolerance * bearing.weight / depth * bearing.rim_height,
+        ),
+        rim_mask=rim_mask,
+    )
+    out = integ.run(duration, observer)
+    state = out.state
+    d_final = red.expand(out.d)
+    ev = sysm.evaluate(d_final, state)
+    h = observer.history.arrays()
+    verdict = observer.verdict
+    numerical = verdict.numerical is not None or (bool(out.failed_numerically)
+                                                  and not verdict.reached)
+    failed = verdict.time is not None and not numerical
+    message = verdict.numerical or out.message or None
+    return FEMResult(
+        time=h.t,
+        displacement=h.x,
+        top_plate_rise=h.z,
+        slider_displacement=h.xs,
+        slider_rise=h.zs,
+        slider_rotation=h.th,
+        base_shear=h.shear,
+        dish_force=h.dish,
+        rim_force=h.rim,
+        rim_root_plastic_strain=h.root_p,
+        rim_root_yielded_fraction=h.root_frac,
+        rim_regularised_plastic_strain=h.regular,
+        max_plastic_strain=float(state.material.eq_plastic_strain.max()),
+        hinge_times=dict(watch.hinge_times),
+        limit_states=dict(watch.times),
+        limit_state=limit_state,
+        kinematics=kinematics,
+        energy={k: v * depth for k, v in out.energy.items()},
+        failed=failed,
+        failure_mode=verdict.mode if failed else None,
+        failure_time=verdict.time if failed else None,
+        failure_detail=verdict.detail if failed else message,
+        numerical_failure=numerical,
+        steps=integ.steps,
+        newton_iterations=integ.newton_iterations,
+        rejected_steps=integ.rejected,
+        dofs=red.nreduced,
+        wall_time=_time.perf_counter() - wall0,
+        depth=depth,
+        final_displacement=d_final,
+        final_plastic_strain=state.material.eq_plastic_strain,
+        final_stress=ev.material.stress,
+        snapshots=tuple(observer.snapshots),
+        bearing=bearing,
+        mesh=mesh,
+        edge_radius=edge_radius,
+    )
+
+
+def _rim_of_nodes(model) -> np.ndarray:
+    """The rim (index in :data:`RIMS`) of every contact slave node on a rim's inner face or
+    top, -1 for the others: for the rim forces and the impact step control."""
+    mesh, nodes = model.mesh, model.system.nodes
     rim_of = np.full(len(nodes), -1)
     for plate in ("bottom", "top"):
         on_rim = np.unique(
@@ -281,114 +351,119 @@ def simulate(
         base = 0 if plate == "bottom" else 2
         rim_of[mask & ~side] = base
         rim_of[mask & side] = base + 1
-    rim_mask = rim_of >= 0
-    top_rows = red.P.getcol(model.top_x).nonzero()[0]
-    top_z_rows = red.P.getcol(model.top_z).nonzero()[0]
-    watch = LimitStates(bearing, model)
+    return rim_of
 
-    hist: dict[str, list] = {k: [] for k in (
-        "t", "x", "z", "xs", "zs", "th", "shear", "dish", "rim", "root_p", "root_frac",
-        "regular")}
-    snaps = []
-    verdict: dict = {}
-    z_top0 = [None]
 
-    first_step = [max_step]
+@dataclass
+class _History:
+    """The histories recorded after every accepted step (lists, then arrays; SI, forces per
+    bearing, i.e. times the depth): time ``t``, top plate ``x`` and rise ``z``, slider ``xs``,
+    rise ``zs`` and rotation ``th``, base ``shear``, ``dish`` forces (bottom, top), ``rim``
+    forces (:data:`RIMS` order), the rims' root plastic strain ``root_p``, yielded fraction
+    ``root_frac`` and gauge-averaged (``regular``) plastic strain."""
 
-    def observer(t, d, ev, state) -> bool:
+    t: list = field(default_factory=list)
+    x: list = field(default_factory=list)
+    z: list = field(default_factory=list)
+    xs: list = field(default_factory=list)
+    zs: list = field(default_factory=list)
+    th: list = field(default_factory=list)
+    shear: list = field(default_factory=list)
+    dish: list = field(default_factory=list)
+    rim: list = field(default_factory=list)
+    root_p: list = field(default_factory=list)
+    root_frac: list = field(default_factory=list)
+    regular: list = field(default_factory=list)
+
+    def arrays(self) -> _History:
+        """The same histories as numpy arrays."""
+        return _History(**{f.name: np.asarray(getattr(self, f.name)) for f in fields(self)})
+
+
+@dataclass
+class _Verdict:
+    """What the run came to: the limit state's ``time`` [s], failure ``mode`` and ``detail``
+    once reached, or ``numerical`` (why the run left the model's range)."""
+
+    time: float | None = None
+    mode: str | None = None
+    detail: str | None = None
+    numerical: str | None = None
+
+    @property
+    def reached(self) -> bool:
+        """A verdict was given (failure or numerical)."""
+        return self.time is not None or self.numerical is not None
+
+
+@dataclass
+class _Observer:
+    """Called by :meth:`fem.dynamics.Integrator.run` after every accepted step: records the
+    histories, keeps snapshots, watches the limit states (:class:`fem.limit_states.LimitStates`)
+    and stops the run at failure (with ``stop_at_failure``) or when a rim's gauge-averaged
+    plastic strain passes :data:`PLASTIC_STRAIN_LIMIT` (numerical)."""
+
+    model: object
+    rim_of: np.ndarray
+    watch: LimitStates
+    limit_state: str
+    stop_at_failure: bool
+    snapshot_every: int
+    first_step: float
+    top_rows: np.ndarray
+    top_z_rows: np.ndarray
+    history: _History = field(default_factory=_History)
+    snapshots: list = field(default_factory=list)
+    verdict: _Verdict = field(default_factory=_Verdict)
+    z_top0: float | None = None
+
+    def __call__(self, t, d, ev, state) -> bool:
+        sysm, nodes, depth = self.model.system, self.model.system.nodes, self.model.depth
+        hist, rim_of = self.history, self.rim_of
+        rim_mask = rim_of >= 0
         pose = sysm.slider_pose(d)
         con = ev.contact
         p = state.material.eq_plastic_strain
-        hist["t"].append(t)
-        hist["x"].append(float(d[top_rows].mean()))
-        zt = float(d[top_z_rows].mean())
-        if z_top0[0] is None:
-            z_top0[0] = zt
-        hist["z"].append(zt - z_top0[0])
-        hist["xs"].append(pose[0])
-        hist["zs"].append(pose[1] - sysm.pose[1])
-        hist["th"].append(pose[2])
+        hist.t.append(t)
+        hist.x.append(float(d[self.top_rows].mean()))
+        zt = float(d[self.top_z_rows].mean())
+        if self.z_top0 is None:
+            self.z_top0 = zt
+        hist.z.append(zt - self.z_top0)
+        hist.xs.append(pose[0])
+        hist.zs.append(pose[1] - sysm.pose[1])
+        hist.th.append(pose[2])
         bottom = nodes.plate == 0
-        hist["shear"].append(float(con.node_force[0, bottom].sum()) * depth)
-        hist["dish"].append(
+        hist.shear.append(float(con.node_force[0, bottom].sum()) * depth)
+        hist.dish.append(
             [float(con.normal[(nodes.plate == k) & ~rim_mask].sum()) * depth for k in (0, 1)]
         )
-        hist["rim"].append(
-            [float(con.normal[rim_of == k].sum()) * depth for k in range(4)]
-        )
-        root_p, frac, regular = watch.update(t, d, pose, p)
-        hist["root_p"].append(root_p)
-        hist["root_frac"].append(frac)
-        hist["regular"].append(regular)
-        if snapshot_every and (len(hist["t"]) - 1) % snapshot_every == 0:
-            snaps.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
+        hist.rim.append([float(con.normal[rim_of == k].sum()) * depth for k in range(4)])
+        root_p, frac, regular = self.watch.update(t, d, pose, p)
+        hist.root_p.append(root_p)
+        hist.root_frac.append(frac)
+        hist.regular.append(regular)
+        if self.snapshot_every and (len(hist.t) - 1) % self.snapshot_every == 0:
+            self.snapshots.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
+        return self._judge(t, regular)
+
+    def _judge(self, t, regular) -> bool:
+        """Update the verdict after a step; True stops the run."""
+        verdict = self.verdict
         if max(regular) > PLASTIC_STRAIN_LIMIT:
-            verdict.setdefault("numerical", f"a rim's gauge-averaged plastic strain reached "
-                               f"{max(regular):.3g} at t = {t:.4f} s, beyond the model's range")
+            if verdict.numerical is None:
+                verdict.numerical = (f"a rim's gauge-averaged plastic strain reached "
+                                     f"{max(regular):.3g} at t = {t:.4f} s, beyond the model's "
+                                     "range")
             return True
-        if not verdict:
-            failed, when, mode, detail = watch.verdict(limit_state)
+        if not verdict.reached:
+            failed, when, mode, detail = self.watch.verdict(self.limit_state)
             if failed:
-                if when <= first_step[0] and abs(hist["x"][-1]) < 1e-3:
-                    verdict["numerical"] = (f"failure at the first step ({detail}) without "
-                                            "motion: a numerical, not a physical, failure")
+                if when <= self.first_step and abs(self.history.x[-1]) < 1e-3:
+                    verdict.numerical = (f"failure at the first step ({detail}) without "
+                                         "motion: a numerical, not a physical, failure")
                     return True
-                verdict.update(time=when, mode=mode, detail=detail)
-                if stop_at_failure:
+                verdict.time, verdict.mode, verdict.detail = when, mode, detail
+                if self.stop_at_failure:
                     return True
         return False
-
-    integ = Integrator(
-        model, ground, hht=HHTParameters(alpha),
-        control=StepControl(
-            max_step=max_step, impact_step=impact_step,
-            energy_tol=energy_tolerance * bearing.weight / depth * bearing.rim_height,
-        ),
-        rim_mask=rim_mask,
-    )
-    out = integ.run(duration, observer)
-    state = out["state"]
-    d_final = red.expand(out["d"])
-    ev = sysm.evaluate(d_final, state)
-    H = {k: np.asarray(v) for k, v in hist.items()}
-    numerical = "numerical" in verdict or (bool(out["failed_numerically"]) and not verdict)
-    failed = "time" in verdict and not numerical
-    message = verdict.get("numerical") or out["message"] or None
-    return FEMResult(
-        time=H["t"],
-        displacement=H["x"],
-        top_plate_rise=H["z"],
-        slider_displacement=H["xs"],
-        slider_rise=H["zs"],
-        slider_rotation=H["th"],
-        base_shear=H["shear"],
-        dish_force=H["dish"],
-        rim_force=H["rim"],
-        rim_root_plastic_strain=H["root_p"],
-        rim_root_yielded_fraction=H["root_frac"],
-        rim_regularised_plastic_strain=H["regular"],
-        max_plastic_strain=float(state.material.eq_plastic_strain.max()),
-        hinge_times=dict(watch.hinge_times),
-        limit_states=dict(watch.times),
-        limit_state=limit_state,
-        kinematics=kinematics,
-        energy={k: v * depth for k, v in out["energy"].items()},
-        failed=failed,
-        failure_mode=verdict.get("mode") if failed else None,
-        failure_time=verdict.get("time") if failed else None,
-        failure_detail=verdict.get("detail") if failed else message,
-        numerical_failure=numerical,
-        steps=integ.steps,
-        newton_iterations=integ.newton_iterations,
-        rejected_steps=integ.rejected,
-        dofs=red.nreduced,
-        wall_time=_time.perf_counter() - wall0,
-        depth=depth,
-        final_displacement=d_final,
-        final_plastic_strain=state.material.eq_plastic_strain,
-        final_stress=ev.material.stress,
-        snapshots=tuple(snaps),
-        bearing=bearing,
-        mesh=mesh,
-        edge_radius=edge_radius,
-    )
