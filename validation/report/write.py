@@ -192,10 +192,6 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from rigid.collapse.fragility import collapse_margin, fit_lognormal
-    from rigid.collapse.plots import plot_comparison, plot_fragility
 
     figures = out / "figures"
     figures.mkdir(parents=True, exist_ok=True)
@@ -227,69 +223,10 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
 
     table2_rows, fragility_rows = [], []
     for pressure, res in results.items():
-        tag = f"{pressure / 1e6:g}MPa"
-        rows = comparison_rows(res.actual, res.predictions)
-        ladders = ladder_rows(res.actual)
-        write_csv(rows, out / f"comparison_{tag}.csv")
-        write_csv(ladders, out / f"ladders_{tag}.csv")
-        bearing = bearing_rows(res.bearing)
-        tables |= {f"bearing_{tag}": bearing, f"comparison_{tag}": rows,
-                   f"ladders_{tag}": ladders}
-        report.heading(f"Bearing at {pressure / 1e6:g} MPa")
-        report.table(bearing, caption="DFPBearing: parameters, then derived quantities")
-        columns = {"record": "record", "actual_sa_g": "actual SA [g]",
-                   "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
-                   "uncertain": "uncertain"}
-        shown = [{**r, **{f"error_pct_{c}": round(100 * r[f"error_{c}"], 1)
-                           for c in res.predictions}} for r in rows]
-        for c in sorted(res.predictions):
-            columns |= {f"kind_{c}": f"kind ({c})", f"tp_{c}": f"Tp [s] ({c})",
-                        f"predicted_sa_g_{c}": f"predicted [g] ({c})",
-                        f"error_pct_{c}": f"error [%] ({c})"}
-        report.table(shown, columns, caption=f"comparison_{tag}.csv (criterion in brackets; "
-                     "error = predicted / actual − 1; numerical rungs: integration unstable, "
-                     "outcome unknown)")
-        numerical = [a for a in res.actual if a.numerical_failures]
-        if numerical:
-            report.paragraph(
-                f"Numerical rungs at {pressure / 1e6:g} MPa (integration unstable after three "
-                "step halvings; neither failures nor survivals): " + "; ".join(
-                    f"{a.name}: {len(a.numerical_failures)} at "
-                    + ", ".join(f"{r.sa / G:.2f}" for r in a.numerical_failures[:10])
-                    + (" …" if len(a.numerical_failures) > 10 else "") + " g"
-                    + (" (uncertain)" if a.uncertain else "") for a in numerical) + ".",
-                note=True)
-        for c in sorted(res.predictions):
-            stats = table2(rows, c)
-            table2_rows.append({"pressure [MPa]": pressure / 1e6, "criterion": c,
-                                **{f"{k} good/n": f"{g}/{n}" for k, (g, n) in stats.items()}})
-        fig, axes = plt.subplots(1, len(res.predictions), figsize=(4.2 * len(res.predictions), 4))
-        for ax, c in zip(np.atleast_1d(axes), sorted(res.predictions), strict=True):
-            plot_comparison(rows, c, ax=ax)
-        report.figure(save_figure(fig, figures / f"fig12_{tag}.png"),
-                      "Predicted against actual critical SA, ±20 % band (paper Fig. 12)")
-        certain = [a for a in res.actual if not a.uncertain]
-        critical = [a.sa for a in certain]
-        if sum(v is not None for v in critical) >= 2:
-            fit = fit_lognormal(certain, stop=settings.stop)
-            margin = collapse_margin(certain, stop=settings.stop)
-            fragility_rows.append({
-                "pressure_mpa": pressure / 1e6, "median_sa_g": fit.median / G,
-                "beta": fit.beta, "records": fit.n, "censored": fit.n_censored,
-                "s_mt_g": margin.s_mt / G, "cmr": margin.cmr, "ssf": margin.ssf,
-                "acmr": margin.acmr})
-            report.paragraph(
-                f"Fragility (lognormal, censored above {settings.stop / G:.2f} g): median "
-                f"{fit.median / G:.3f} g, β = {fit.beta:.3f}, {fit.n} records "
-                f"({fit.n_censored} without failure"
-                + (f"; {len(res.actual) - len(certain)} uncertain left out"
-                   if len(certain) < len(res.actual) else "")
-                + "). " + _sentences(margin.summary())
-            )
-            fig, ax = plt.subplots(figsize=(5, 4))
-            plot_fragility(fit, [v for v in critical if v is not None], ax=ax)
-            report.figure(save_figure(fig, figures / f"fragility_{tag}.png"),
-                          "Fragility: empirical and fitted lognormal")
+        tables |= _pressure_section(report, pressure, res, out, figures, table2_rows)
+        fragility = _fragility_section(report, pressure, res, settings, figures)
+        if fragility is not None:
+            fragility_rows.append(fragility)
     write_csv(table2_rows, out / "table2.csv")
     report.heading("Table 2: predictions within 20 % of the actual critical SA")
     report.table(table2_rows, caption="table2.csv (long: Tp > 0.5 s)")
@@ -308,6 +245,90 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
                  attrs={"title": title, "record_set": record_set,
                         "elapsed_s": float(elapsed), "g": G})
     return report.write(out / "report.html")
+
+
+def _pressure_section(report, pressure, res, out, figures, table2_rows) -> dict:
+    """The report's section of one bearing pressure: the bearing, the comparison of actual and
+    predicted critical SA (CSV files, table, numerical rungs, Fig. 12); appends the pressure's
+    rows of Table 2 to ``table2_rows``; returns the section's tables by name."""
+    import matplotlib.pyplot as plt
+
+    from rigid.collapse.plots import plot_comparison
+
+    tag = f"{pressure / 1e6:g}MPa"
+    rows = comparison_rows(res.actual, res.predictions)
+    ladders = ladder_rows(res.actual)
+    write_csv(rows, out / f"comparison_{tag}.csv")
+    write_csv(ladders, out / f"ladders_{tag}.csv")
+    bearing = bearing_rows(res.bearing)
+    tables = {f"bearing_{tag}": bearing, f"comparison_{tag}": rows, f"ladders_{tag}": ladders}
+    report.heading(f"Bearing at {pressure / 1e6:g} MPa")
+    report.table(bearing, caption="DFPBearing: parameters, then derived quantities")
+    columns = {"record": "record", "actual_sa_g": "actual SA [g]",
+               "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
+               "uncertain": "uncertain"}
+    shown = [{**r, **{f"error_pct_{c}": round(100 * r[f"error_{c}"], 1)
+                      for c in res.predictions}} for r in rows]
+    for c in sorted(res.predictions):
+        columns |= {f"kind_{c}": f"kind ({c})", f"tp_{c}": f"Tp [s] ({c})",
+                    f"predicted_sa_g_{c}": f"predicted [g] ({c})",
+                    f"error_pct_{c}": f"error [%] ({c})"}
+    report.table(shown, columns, caption=f"comparison_{tag}.csv (criterion in brackets; "
+                 "error = predicted / actual − 1; numerical rungs: integration unstable, "
+                 "outcome unknown)")
+    numerical = [a for a in res.actual if a.numerical_failures]
+    if numerical:
+        report.paragraph(
+            f"Numerical rungs at {pressure / 1e6:g} MPa (integration unstable after three "
+            "step halvings; neither failures nor survivals): " + "; ".join(
+                f"{a.name}: {len(a.numerical_failures)} at "
+                + ", ".join(f"{r.sa / G:.2f}" for r in a.numerical_failures[:10])
+                + (" …" if len(a.numerical_failures) > 10 else "") + " g"
+                + (" (uncertain)" if a.uncertain else "") for a in numerical) + ".",
+            note=True)
+    for c in sorted(res.predictions):
+        stats = table2(rows, c)
+        table2_rows.append({"pressure [MPa]": pressure / 1e6, "criterion": c,
+                            **{f"{k} good/n": f"{g}/{n}" for k, (g, n) in stats.items()}})
+    fig, axes = plt.subplots(1, len(res.predictions), figsize=(4.2 * len(res.predictions), 4))
+    for ax, c in zip(np.atleast_1d(axes), sorted(res.predictions), strict=True):
+        plot_comparison(rows, c, ax=ax)
+    report.figure(save_figure(fig, figures / f"fig12_{tag}.png"),
+                  "Predicted against actual critical SA, ±20 % band (paper Fig. 12)")
+    return tables
+
+
+def _fragility_section(report, pressure, res, settings, figures) -> dict | None:
+    """The fragility paragraph and figure of one pressure (lognormal fit censored at the
+    ladder's top, FEMA P695 collapse margin), from the records whose critical SA is certain;
+    its row of the fragility table, or None with fewer than two failures."""
+    import matplotlib.pyplot as plt
+
+    from rigid.collapse.fragility import collapse_margin, fit_lognormal
+    from rigid.collapse.plots import plot_fragility
+
+    certain = [a for a in res.actual if not a.uncertain]
+    critical = [a.sa for a in certain]
+    if sum(v is not None for v in critical) < 2:
+        return None
+    fit = fit_lognormal(certain, stop=settings.stop)
+    margin = collapse_margin(certain, stop=settings.stop)
+    report.paragraph(
+        f"Fragility (lognormal, censored above {settings.stop / G:.2f} g): median "
+        f"{fit.median / G:.3f} g, β = {fit.beta:.3f}, {fit.n} records "
+        f"({fit.n_censored} without failure"
+        + (f"; {len(res.actual) - len(certain)} uncertain left out"
+           if len(certain) < len(res.actual) else "")
+        + "). " + _sentences(margin.summary())
+    )
+    fig, ax = plt.subplots(figsize=(5, 4))
+    plot_fragility(fit, [v for v in critical if v is not None], ax=ax)
+    report.figure(save_figure(fig, figures / f"fragility_{pressure / 1e6:g}MPa.png"),
+                  "Fragility: empirical and fitted lognormal")
+    return {"pressure_mpa": pressure / 1e6, "median_sa_g": fit.median / G,
+            "beta": fit.beta, "records": fit.n, "censored": fit.n_censored,
+            "s_mt_g": margin.s_mt / G, "cmr": margin.cmr, "ssf": margin.ssf,
+            "acmr": margin.acmr}
 
 
 _TRIM_TEXT = {
