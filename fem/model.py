@@ -264,8 +264,7 @@ def simulate(
         vertex_contact=vertex_contact, plasticity=plasticity, kinematics=kinematics,
         edge_radius=edge_radius, cache_dir=cache_dir,
     )
-    sysm, red, mesh = model.system, model.reduction, model.mesh
-    depth = model.depth
+    red, depth = model.reduction, model.depth
     rim_of = _rim_of_nodes(model)
     rim_mask = rim_of >= 0
     watch = LimitStates(bearing, model)
@@ -285,6 +284,18 @@ def simulate(
         rim_mask=rim_mask,
     )
     out = integ.run(duration, observer)
+    return _result(bearing, model, integ, out, observer, limit_state=limit_state,
+                   kinematics=kinematics, edge_radius=edge_radius, wall0=wall0)
+
+
+def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, edge_radius,
+            wall0) -> FEMResult:
+    """The run's :class:`FEMResult` from the integrator's outcome (``out``,
+    :class:`fem.dynamics.RunResult`) and what the observer recorded: histories, verdict
+    (failed, numerical, or neither), final fields, cost (``wall0``: the start's
+    ``perf_counter`` [s])."""
+    sysm, red, mesh, depth = model.system, model.reduction, model.mesh, model.depth
+    watch = observer.watch
     state = out.state
     d_final = red.expand(out.d)
     ev = sysm.evaluate(d_final, state)
