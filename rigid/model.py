@@ -281,6 +281,17 @@ def simulate(
         if int(summary[K.S_STATUS]) != K.STATUS_NUMERICAL:
             break
 
+    return _result(bearing, dt, record_every, on_instability, rims, limit_state, h, summary,
+                   hist, events)
+
+
+def _result(bearing, dt, record_every, on_instability, rims, limit_state, h, summary, hist,
+            events) -> SimulationResult:
+    """The run's :class:`SimulationResult` from the kernel's outputs (``summary``, histories
+    ``hist``, impact ``events``; ``h`` [s]: the internal step of the last attempt): the
+    verdict (a numerical failure raised, reported with a warning, as ``on_instability``
+    says), the limit states (Eq. R62), the failure mode and the histories kept every
+    ``record_every`` samples of ``dt`` [s]."""
     status = int(summary[K.S_STATUS])
     code = int(summary[K.S_FAIL_CODE])
     fail_time = float(summary[K.S_FAIL_TIME])
@@ -289,7 +300,7 @@ def simulate(
         message = f"{_FAILURE_DETAIL[code]} at t = {fail_time:.4f} s (internal step {h:.3g} s)"
         if on_instability != "report":
             raise NumericalInstabilityError(message)
-        warnings.warn(message, RuntimeWarning, stacklevel=2)
+        warnings.warn(message, RuntimeWarning, stacklevel=4)
     physical = (not numerical) and code in _PHYSICAL
     limit_states = _limit_states(summary, rims, physical, fail_time)
     mode = None
