@@ -287,6 +287,50 @@ def _run_rung(bearing, acc, dt, scale, sim) -> dict:
     }
 
 
+def _rung_options(bearing, rims, limit_state, rim_law, *, max_step, impact_merge_time,
+                  coarse_factor, free) -> dict:
+    """What every rung of a ladder runs with: :func:`rigid.simulate`'s options (and ``free``
+    [s] after the record), part of the rungs' key; with yielding rims the law itself
+    (:func:`rigid.rims.resolve_rim_law`)."""
+    sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
+           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free),
+           "rims": rims, "limit_state": limit_state}
+    if rims == "yielding":
+        from ..rims import resolve_rim_law
+
+        sim["rim_law"] = resolve_rim_law(bearing, rim_law, stacklevel=4)
+    if sim["max_step"] is None:
+        from ..model import DEFAULT_MAX_STEP
+
+        sim["max_step"] = DEFAULT_MAX_STEP
+    return sim
+
+
+class _Rungs:
+    """The rungs of one ladder, each run once (or read from the store) when first asked for:
+    ``rungs(j)`` is rung j, a :class:`Rung`; ``done`` maps the rungs so far;
+    ``cpu_seconds`` [s] is the processor time spent simulating them here."""
+
+    def __init__(self, bearing, acc, dt, start, step, record_sa, sim, store):
+        self.bearing, self.acc, self.dt, self.sim, self.store = bearing, acc, dt, sim, store
+        self.start, self.step, self.record_sa = start, step, record_sa
+        self.done: dict[int, Rung] = {}
+        self.cpu_seconds = 0.0
+
+    def __call__(self, j: int) -> Rung:
+        if j not in self.done:
+            sa = self.start + j * self.step
+            scale = sa / self.record_sa  # Eq. C2
+            out = self.store.get(j)
+            if out is None:
+                t0 = time.process_time()
+                out = _run_rung(self.bearing, self.acc, self.dt, scale, self.sim)
+                self.cpu_seconds += time.process_time() - t0
+                self.store.put(j, out)
+            self.done[j] = Rung(index=j, sa=sa, scale=scale, **out)
+        return self.done[j]
+
+
 @renamed_limit_state()
 def critical_sa(
     bearing: DFPBearing,
@@ -382,38 +426,15 @@ def critical_sa(
 
     if not (math.isfinite(free) and free >= 0):
         raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
-    limit_state = check_limit_state(limit_state, rims=rims)
-    sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
-           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free),
-           "rims": rims, "limit_state": limit_state}
-    if rims == "yielding":
-        from ..rims import resolve_rim_law
-
-        sim["rim_law"] = resolve_rim_law(bearing, rim_law, stacklevel=3)
-    if sim["max_step"] is None:
-        from ..model import DEFAULT_MAX_STEP
-
-        sim["max_step"] = DEFAULT_MAX_STEP
+    sim = _rung_options(bearing, rims, check_limit_state(limit_state, rims=rims), rim_law,
+                        max_step=max_step, impact_merge_time=impact_merge_time,
+                        coarse_factor=coarse_factor, free=free)
     cache_dir = cache_root() if cache is True else (None if cache is False else cache)
     store = _Store(cache_dir, {"bearing": bearing, "acceleration": acc, "dt": dt,
                                "start": start, "step": float(step), "period": period,
                                "damping": float(damping), "simulate": sim})
-
-    done: dict[int, Rung] = {}
-    cpu = [0.0]
-
-    def rung(j: int) -> Rung:
-        if j not in done:
-            sa = start + j * step
-            scale = sa / record_sa  # Eq. C2
-            out = store.get(j)
-            if out is None:
-                t0 = time.process_time()
-                out = _run_rung(bearing, acc, dt, scale, sim)
-                cpu[0] += time.process_time() - t0
-                store.put(j, out)
-            done[j] = Rung(index=j, sa=sa, scale=scale, **out)
-        return done[j]
+    rung = _Rungs(bearing, acc, dt, start, step, record_sa, sim, store)
+    done = rung.done
 
     first = None
     if search == "full":
@@ -428,6 +449,7 @@ def critical_sa(
             rung(j)
 
     rungs = tuple(done[j] for j in sorted(done))
+    limit_state = sim["limit_state"]
     return CriticalSA(
         sa=None if first is None else done[first].sa,
         scale=None if first is None else done[first].scale,
@@ -439,7 +461,7 @@ def critical_sa(
         stop=float(start + (n_rungs - 1) * step),
         search=search,
         rungs=rungs,
-        cpu_seconds=cpu[0],
+        cpu_seconds=rung.cpu_seconds,
         capped=capped,
         rims=rims,
         limit_state=limit_state,
