@@ -16,7 +16,8 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.dfp` — the bearing as a plane-strain system (depth, masses, ties, loads).
 * :mod:`fem.linear` — Newton's linear solves: cached elastic LU + low-rank (Woodbury) update.
 * :mod:`fem.dynamics` — HHT-α with Newton, step cutback and an energy balance.
-* :mod:`fem.model` — :func:`simulate` and :class:`FEMResult`.
+* :mod:`fem.model` — :func:`simulate`, :class:`FEMResult` and :class:`fem.model.FEEnergy`.
+* :mod:`fem.observer` — what a run records after every step: histories, snapshots, verdict.
 * :mod:`fem.limit_states` — hinge, rupture and containment, watched during a run.
 * :mod:`fem.pushover` — :func:`rim_pushover`, the static push of a rim.
 * :mod:`fem.rim_laws` — :func:`rim_law`, the yielding rims' law from pushes of the rim, the
