@@ -141,6 +141,9 @@ def _debug_arg(p, default):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``dfp`` command's parser: one subcommand each (simulate and its alias demo,
+    pulses, critical-sa, validate), each calling its command (:mod:`validation.commands`,
+    looked up here at call time)."""
     parser = _Parser(
         prog="dfp",
         description="Failure of double friction pendulum bearings under pulse-like motions "
@@ -148,6 +151,17 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _debug_arg(parser, False)
     sub = parser.add_subparsers(dest="command", required=True)
+    _simulate_parsers(sub)
+    _pulses_parser(sub)
+    _critical_parser(sub)
+    _validate_parser(sub)
+    for p in sub.choices.values():  # --debug after the command too
+        _debug_arg(p, argparse.SUPPRESS)
+    return parser
+
+
+def _simulate_parsers(sub):
+    """``simulate`` and its alias ``demo``: a Ricker pulse or a record, one rigid run."""
     for name, helptext in (("simulate", "the rigid model on a Ricker pulse or a record"),
                            ("demo", "the same as simulate (the first example of the README)")):
         p = sub.add_parser(name, help=helptext, description=simulate.__doc__)
@@ -170,6 +184,9 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--out", default="dfp-simulate", help="output folder")
         p.set_defaults(func=simulate)
 
+
+def _pulses_parser(sub):
+    """``pulses``: the best Ricker pulses of a record."""
     p = sub.add_parser("pulses", help="best Ricker pulses of a record (criteria 1-4)",
                        description=pulses.__doc__)
     _record_args(p, required=True)
@@ -178,6 +195,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="dfp-pulses", help="output folder")
     p.set_defaults(func=pulses)
 
+
+def _critical_parser(sub):
+    """``critical-sa``: the ladder and its prediction for one record."""
     p = sub.add_parser("critical-sa", help="critical SA(4.5 s) of a record and its prediction",
                        description=critical.__doc__)
     _bearing_args(p)
@@ -192,6 +212,9 @@ def build_parser() -> argparse.ArgumentParser:
     _rim_args(p)
     p.set_defaults(func=critical)
 
+
+def _validate_parser(sub):
+    """``validate``: a record set, both models, the report."""
     p = sub.add_parser("validate", help="critical SA and its prediction over a record set",
                        description=validate.__doc__)
     source = p.add_mutually_exclusive_group()
@@ -249,9 +272,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bars")
     p.set_defaults(func=validate)
-    for p in sub.choices.values():  # --debug after the command too
-        _debug_arg(p, argparse.SUPPRESS)
-    return parser
 
 
 def _describe(exc: BaseException) -> tuple[str, int]:
