@@ -265,7 +265,6 @@ def predict_critical_sa(
     PredictedSA
     """
     from .ladder import as_record, check_ladder, record_ladder
-    from .search import coarse_scan
 
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     period = bearing.design_period if period is None else float(period)
@@ -289,27 +288,7 @@ def predict_critical_sa(
             done[j] = PredictionRung(j, sa, k, ap0 * k, int(where(pulse.period, ap0 * k)))
         return done[j]
 
-    first = None
-    if search == "full":
-        first = next((j for j in range(n_rungs) if rung(j).region == 2), None)
-    elif search == "bisect":
-        if rung(n_rungs - 1).region == 2:
-            lo, hi = -1, n_rungs - 1  # rung lo is below the boundary (or none), hi above
-            while hi - lo > 1:
-                mid = (lo + hi) // 2
-                lo, hi = (lo, mid) if rung(mid).region == 2 else (mid, hi)
-            first = hi
-    else:
-        ends, first = coarse_scan(lambda j: rung(j).region == 2, n_rungs, coarse)
-        if first is not None:
-            for lo, hi in zip([-1, *ends[:-1]], ends, strict=True):
-                if lo >= first:
-                    break
-                if hi == ends[-1] or rung(hi).region != 0 or (lo >= 0 and rung(lo).region != 0):
-                    hit = next((j for j in range(lo + 1, hi) if rung(j).region == 2), None)
-                    if hit is not None:
-                        first = hit
-                        break
+    first = _first_in_failure_region(lambda j: rung(j).region, n_rungs, search, coarse)
     return PredictedSA(
         sa=None if first is None else done[first].sa,
         scale=None if first is None else done[first].scale,
@@ -324,3 +303,32 @@ def predict_critical_sa(
         search=search,
         rungs=tuple(done[j] for j in sorted(done)),
     )
+
+
+def _first_in_failure_region(region, n_rungs: int, search: str, coarse: int) -> int | None:
+    """The lowest rung whose scaled pulse is in the failure region (``region(j)`` = 2; Eq.
+    C5), or None, by ``search``: "full" every rung from the bottom; "bisect" assumes one
+    boundary; "fast" every ``coarse``-th rung, then the rungs of each coarse interval with an
+    end in the impact region or above (a failure needs an impact first; paper §3.2)."""
+    from .search import coarse_scan
+
+    if search == "full":
+        return next((j for j in range(n_rungs) if region(j) == 2), None)
+    if search == "bisect":
+        if region(n_rungs - 1) != 2:
+            return None
+        lo, hi = -1, n_rungs - 1  # rung lo is below the boundary (or none), hi above
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            lo, hi = (lo, mid) if region(mid) == 2 else (mid, hi)
+        return hi
+    ends, first = coarse_scan(lambda j: region(j) == 2, n_rungs, coarse)
+    if first is not None:
+        for lo, hi in zip([-1, *ends[:-1]], ends, strict=True):
+            if lo >= first:
+                break
+            if hi == ends[-1] or region(hi) != 0 or (lo >= 0 and region(lo) != 0):
+                hit = next((j for j in range(lo + 1, hi) if region(j) == 2), None)
+                if hit is not None:
+                    return hit
+    return first
