@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 import rigid
-from rigid.collapse.ladder import critical_sas
+from rigid.collapse.record_set import critical_sas
 
 
 def main() -> None:

@@ -14,7 +14,7 @@
 3. Finite deformation against small strain on the same runs (``--kinematics``): the 0.3 g run
    above (to the first hinge), and on the coarse mesh the 10 MPa bearing under a symmetric
    Ricker pulse, Tp = 2 s, 0.4 g, run past the hinge to the loss of containment
-   (``failure_criterion="containment"``, 18 s), the regime where small strain is meaningless.
+   (``limit_state="containment"``, 18 s), the regime where small strain is meaningless.
 
 4. The threshold of the low-rank set (``--active-gradient G [G ...]``): the past-hinge run of
    part 3 at finite deformation with ``fem.finite_element.ACTIVE_GRADIENT`` set to each G [-]
@@ -103,7 +103,7 @@ def post_hinge_run(cache: str, **options):
     _, a = ricker_record(0.4 * G, 2.0, dt=0.005, duration=18.0)
     t0, c0 = time.perf_counter(), time.process_time()
     res = fem.simulate(DFPBearing(pressure=10e6), a, 0.005, mesh_options=COARSE_MESH,
-                       max_step=0.01, failure_criterion="containment", cache_dir=cache,
+                       max_step=0.01, limit_state="containment", cache_dir=cache,
                        **options)
     return res, time.perf_counter() - t0, time.process_time() - c0
 

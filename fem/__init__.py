@@ -16,18 +16,23 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.dfp` — the bearing as a plane-strain system (depth, masses, ties, loads).
 * :mod:`fem.linear` — Newton's linear solves: cached elastic LU + low-rank (Woodbury) update.
 * :mod:`fem.dynamics` — HHT-α with Newton, step cutback and an energy balance.
-* :mod:`fem.model` — :func:`simulate` and :class:`FEMResult`.
+* :mod:`fem.model` — :func:`simulate`, :class:`FEMResult` and :class:`fem.model.FEEnergy`.
+* :mod:`fem.observer` — what a run records after every step: histories, snapshots, verdict.
 * :mod:`fem.limit_states` — hinge, rupture and containment, watched during a run.
 * :mod:`fem.pushover` — :func:`rim_pushover`, the static push of a rim.
+* :mod:`fem.rim_laws` — :func:`rim_law`, the yielding rims' law from pushes of the rim, the
+  data :func:`rigid.simulate` takes with ``rims="yielding"`` (cached per rim geometry).
 * :mod:`fem.output` — VTU files and pictures (meshio, pyvista).
 
-``fem`` depends on ``rigid`` (for :class:`rigid.DFPBearing`), never the other way.
+``fem`` depends on ``rigid`` (the bearing, records, pulses, the rim law's data class), never
+the other way, and never on ``validation`` (docs/architecture.md).
 """
 
 from .limit_states import LIMIT_STATES
 from .material import Material, MaterialState, ReturnMapResult, return_map, von_mises
 from .model import FEMResult, simulate
 from .pushover import rim_pushover
+from .rim_laws import rim_law
 
 __all__ = [
     "LIMIT_STATES",
@@ -36,6 +41,7 @@ __all__ = [
     "MaterialState",
     "ReturnMapResult",
     "return_map",
+    "rim_law",
     "rim_pushover",
     "simulate",
     "von_mises",

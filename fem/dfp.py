@@ -111,7 +111,6 @@ def build_system(
     -------
     DFPSystem
     """
-    from skfem import LinearForm, asm
 
     from .assembly import PlaneStrainQ1
     from .finite_element import FiniteStrainQ1
@@ -154,33 +153,8 @@ def build_system(
     top = np.unique(m.facets[:, m.boundaries["block_top"]])
     reduction = Reduction(system.size, fixed=nd[:, support].ravel(), ties=(nd[0, top], nd[1, top]))
 
-    # Lumped (row-sum) steel mass of the plates: ∫ρ φ_a dx per dof (Eq. F3).
-    rho = bearing.steel_density
-    plate_mass = asm(LinearForm(lambda v, w: rho * (v[0] + v[1])), fe.basis)
-    full_mass = np.concatenate([plate_mass, np.array([1.0, 1.0, 1.0])])
-    full_mass[system.slider_dofs] = np.array(
-        [bearing.slider_mass, bearing.slider_mass, bearing.slider_inertia]
-    ) / depth
-    mass = np.asarray(reduction.PT @ full_mass).ravel()
+    mass, gravity, influence = _mass_and_loads(bearing, m, fe, system, reduction, depth)
     top_x, top_z = (int(k) for k in reduction.masters)
-    above = np.concatenate([m.subdomains[k] for k in ("top_plate", "top_rim", "block")])
-    steel_above = rho * float(fe.basis.dx[above].sum())
-    extra = bearing.supported_mass / depth - steel_above
-    if extra <= 0:
-        raise ValueError("the top plate and block outweigh the supported mass; lower block_height")
-    mass[top_x] += extra
-    mass[top_z] += extra
-
-    # Influence vectors: horizontal translation dofs (plate x dofs, slider X, master X).
-    rx = np.zeros(system.size)
-    rx[nd[0]] = 1.0
-    rx[system.slider_dofs[0]] = 1.0
-    rz = np.zeros(system.size)
-    rz[nd[1]] = 1.0
-    rz[system.slider_dofs[1]] = 1.0
-    influence = np.minimum(np.asarray(reduction.PT @ rx).ravel(), 1.0)
-    vertical = np.minimum(np.asarray(reduction.PT @ rz).ravel(), 1.0)
-    gravity = -mass * vertical * G
     slider = np.array([reduction.index(k) for k in system.slider_dofs])
 
     return DFPSystem(
@@ -224,3 +198,41 @@ def rim_root_rows(mesh, bearing: DFPBearing, plates=("bottom", "top")) -> dict:
         for side, name in ((-1.0, "-x"), (1.0, "+x")):
             out[f"{plate} {name}"] = elems[first & (np.sign(centroid[0]) == side)]
     return out
+
+
+def _mass_and_loads(bearing, m, fe, system, reduction, depth):
+    """The reduced lumped mass [kg/m] (plates' steel, the slider, the supported mass less the
+    steel above on the top plate's masters; Eq. F3), the weights [N/m] and the horizontal
+    influence vector of the ground motion (Eq. F23), per unit depth ``depth`` [m]; ``m`` the
+    mesh, ``fe`` its element (small or finite strain)."""
+    from skfem import LinearForm, asm
+
+    nd = fe.basis.nodal_dofs
+    # Lumped (row-sum) steel mass of the plates: ∫ρ φ_a dx per dof (Eq. F3).
+    rho = bearing.steel_density
+    plate_mass = asm(LinearForm(lambda v, w: rho * (v[0] + v[1])), fe.basis)
+    full_mass = np.concatenate([plate_mass, np.array([1.0, 1.0, 1.0])])
+    full_mass[system.slider_dofs] = np.array(
+        [bearing.slider_mass, bearing.slider_mass, bearing.slider_inertia]
+    ) / depth
+    mass = np.asarray(reduction.PT @ full_mass).ravel()
+    top_x, top_z = (int(k) for k in reduction.masters)
+    above = np.concatenate([m.subdomains[k] for k in ("top_plate", "top_rim", "block")])
+    steel_above = rho * float(fe.basis.dx[above].sum())
+    extra = bearing.supported_mass / depth - steel_above
+    if extra <= 0:
+        raise ValueError("the top plate and block outweigh the supported mass; lower block_height")
+    mass[top_x] += extra
+    mass[top_z] += extra
+
+    # Influence vectors: horizontal translation dofs (plate x dofs, slider X, master X).
+    rx = np.zeros(system.size)
+    rx[nd[0]] = 1.0
+    rx[system.slider_dofs[0]] = 1.0
+    rz = np.zeros(system.size)
+    rz[nd[1]] = 1.0
+    rz[system.slider_dofs[1]] = 1.0
+    influence = np.minimum(np.asarray(reduction.PT @ rx).ravel(), 1.0)
+    vertical = np.minimum(np.asarray(reduction.PT @ rz).ravel(), 1.0)
+    gravity = -mass * vertical * G
+    return mass, gravity, influence

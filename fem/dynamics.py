@@ -122,6 +122,66 @@ class StepFailure(RuntimeError):
     """Newton did not converge even at the smallest step."""
 
 
+@dataclass(frozen=True)
+class StepResult:
+    """One converged HHT-α step (:meth:`Integrator.step`).
+
+    Attributes
+    ----------
+    d, v, acc : ndarray [m, m/s, m/s²]
+        Reduced displacement, velocity and acceleration at the end of the step.
+    state : fem.system.State
+        The trial history (material and contact) the step converged with.
+    evaluation : object
+        The system's evaluation at ``d`` (forces, contact, stresses).
+    f_int, f_ext : ndarray [N/m]
+        Reduced internal and external forces at the end of the step.
+    iterations : int
+        Newton iterations the step took.
+    """
+
+    d: np.ndarray
+    v: np.ndarray
+    acc: np.ndarray
+    state: State
+    evaluation: object
+    f_int: np.ndarray
+    f_ext: np.ndarray
+    iterations: int
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """The outcome of :meth:`Integrator.run`.
+
+    Attributes
+    ----------
+    time : ndarray [s]
+        The accepted steps' times, from the start.
+    energy : dict of ndarray [J/m]
+        :meth:`Energy.arrays` at ``time``.
+    stopped : bool
+        The observer stopped the run.
+    failed_numerically : bool
+        Newton did not converge even at the smallest step.
+    message : str
+        Why the run failed numerically ("" otherwise).
+    d, v : ndarray [m, m/s]
+        Final reduced displacement and velocity.
+    state : fem.system.State
+        Final committed history.
+    """
+
+    time: np.ndarray
+    energy: dict
+    stopped: bool
+    failed_numerically: bool
+    message: str
+    d: np.ndarray
+    v: np.ndarray
+    state: State
+
+
 @dataclass
 class Integrator:
     """HHT-α integration of a :class:`fem.dfp.DFPSystem`-like problem.
@@ -190,9 +250,8 @@ class Integrator:
 
         Returns
         -------
-        dict or None
-            None if Newton did not converge; otherwise the new d, v, acc, trial state,
-            evaluation, reduced internal force, external force, iteration count.
+        StepResult or None
+            None if Newton did not converge.
         """
         al, be, ga = self.hht.alpha, self.hht.beta, self.hht.gamma  # Eq. F26
         f_ext = self.external(t + h)
@@ -214,7 +273,7 @@ class Integrator:
             if norm <= tol:
                 self.newton_iterations += it
                 v_new = v + h * ((1 - ga) * acc + ga * a_new)  # Eq. F25
-                return dict(
+                return StepResult(
                     d=x, v=v_new, acc=a_new, state=State(ev.material.state, ev.contact.state),
                     evaluation=ev, f_int=f_int, f_ext=f_ext, iterations=it,
                 )
@@ -257,9 +316,7 @@ class Integrator:
 
         Returns
         -------
-        dict
-            ``time`` [s], ``energy`` (:meth:`Energy.arrays`), ``stopped`` (observer stop),
-            ``failed_numerically`` (bool), ``message``, final ``d``, ``v``, ``state``.
+        RunResult
         """
         ctl = self.control
         d, state, ev = self.gravity_step()
@@ -288,7 +345,7 @@ class Integrator:
             h = min(h, t_end - t)
             out = self.step(t, h, d, v, acc, state, f_int, f_ext)
             if out is not None and self.rim_mask is not None and h > ctl.impact_step * 1.0001:
-                now_active = bool(out["evaluation"].contact.active[self.rim_mask].any())
+                now_active = bool(out.evaluation.contact.active[self.rim_mask].any())
                 if now_active != rim_active:
                     out = None  # a rim contact opens or closes: redo at the impact step
                     self.rejected += 1
@@ -303,13 +360,13 @@ class Integrator:
                     message = f"Newton did not converge at t = {t:.5f} s even with Δt = {h:.2e} s"
                     break
                 continue
-            dd = out["d"] - d
-            f_mat_new = self.red.reduce(out["evaluation"].material_force)
-            con = out["evaluation"].contact
-            w_ext_new = w_ext + 0.5 * float((f_ext + out["f_ext"]) @ dd)
+            dd = out.d - d
+            f_mat_new = self.red.reduce(out.evaluation.material_force)
+            con = out.evaluation.contact
+            w_ext_new = w_ext + 0.5 * float((f_ext + out.f_ext) @ dd)
             w_mat_new = w_mat + 0.5 * float((f_mat + f_mat_new) @ dd)
             w_fric_new = w_fric + float(-(con.tangential * con.slip).sum())
-            ekin_new = 0.5 * float(self.M @ (out["v"] * out["v"]))
+            ekin_new = 0.5 * float(self.M @ (out.v * out.v))
             # residual = input − kinetic − (strain + plastic) − contact − friction (Eqs.
             # F29–F31)
             residual_new = (w_ext_new - ekin_new - w_mat_new - (con.normal_energy - cont0)
@@ -320,8 +377,8 @@ class Integrator:
                 continue
             w_ext, w_mat, w_fric, ekin, residual = (w_ext_new, w_mat_new, w_fric_new,
                                                     ekin_new, residual_new)
-            d, v, acc, state = out["d"], out["v"], out["acc"], out["state"]
-            f_int, f_ext, f_mat, ev = out["f_int"], out["f_ext"], f_mat_new, out["evaluation"]
+            d, v, acc, state = out.d, out.v, out.acc, out.state
+            f_int, f_ext, f_mat, ev = out.f_int, out.f_ext, f_mat_new, out.evaluation
             t += h
             self.steps += 1
             times.append(t)
@@ -332,11 +389,11 @@ class Integrator:
                 stopped = True
                 break
             limit = ctl.impact_step if rim_active else ctl.max_step
-            if out["iterations"] > ctl.max_iter // 2:  # hard step: be careful with the next
+            if out.iterations > ctl.max_iter // 2:  # hard step: be careful with the next
                 h = max(0.5 * h, ctl.min_step)
             else:
                 h = min(2.0 * h, limit)
-        return dict(
+        return RunResult(
             time=np.asarray(times), energy=energy.arrays(), stopped=stopped,
             failed_numerically=failed, message=message, d=d, v=v, state=state,
         )

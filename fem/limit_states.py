@@ -171,16 +171,16 @@ class LimitStates:
             return "uplift", "the slider overturned (|θ| > 45°)"
         return None, None
 
-    def verdict(self, criterion: str):
-        """(failed, time [s], mode, detail) under ``criterion``: the first of that limit state
-        and containment (an escape is failure whatever the criterion)."""
+    def verdict(self, limit_state: str):
+        """(failed, time [s], mode, detail) under ``limit_state``: the first of that limit
+        state and containment (an escape is failure whatever the limit state)."""
         t_c = self.times["containment"]
-        t = self.times[criterion]
+        t = self.times[limit_state]
         if t is None and t_c is None:
             return False, None, None, None
         if t_c is not None and (t is None or t_c <= t):
             return True, t_c, self.mode, self.detail
-        if criterion == "hinge":
+        if limit_state == "hinge":
             return True, t, "yielding", f"plastic hinge across the root of the {self.hinge_rim} rim"
         return True, t, "yielding", (
             f"the {self.rupture_rim} rim ruptured: its plastic strain over a gauge of the rim "

@@ -8,21 +8,58 @@ docs/fe-companion.md). Same input conventions as :func:`rigid.simulate`."""
 from __future__ import annotations
 
 import time as _time
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
 from rigid.bearing import DFPBearing
+from rigid.limit_states import check_limit_state, deprecated_attribute, renamed_limit_state
 
 from .limit_states import LIMIT_STATES, RIMS, LimitStates
+from .observer import PLASTIC_STRAIN_LIMIT, Observer, rim_of_nodes
 
-__all__ = ["LIMIT_STATES", "PLASTIC_STRAIN_LIMIT", "RIMS", "FEMResult", "simulate"]
+__all__ = ["LIMIT_STATES", "PLASTIC_STRAIN_LIMIT", "RIMS", "FEEnergy", "FEMResult", "simulate"]
 
-#: Equivalent plastic strain of a rim, averaged over a gauge of its thickness (Eq. F52), beyond
-#: which a run has left the model's range (a true strain of 5 stretches a fibre 150-fold; 25
-#: times the rupture strain): it ends as numerical. The gauge average, because the local strain
-#: at the rim root's re-entrant corner grows with mesh refinement (docs/results/rupture_mesh.csv).
-PLASTIC_STRAIN_LIMIT = 5.0
+
+@dataclass(frozen=True)
+class FEEnergy(Mapping):
+    """Energy histories of an FE run [J] (3-D, i.e. times the depth), at the result's
+    ``time``, zero at the start of the dynamic phase (docs/theory/finite-elements.md, Eqs.
+    F29–F31). Read as attributes (``res.energy.kinetic``) or, as before, as a mapping
+    (``res.energy["kinetic"]``, ``.items()``).
+
+    Attributes
+    ----------
+    input, kinetic, strain, plastic, contact, friction : ndarray [J]
+        Work of the ground motion, kinetic energy, elastic strain energy, plastic
+        dissipation, the penalty springs' energy, friction work.
+    residual : ndarray [J]
+        input − all the others: HHT's algorithmic dissipation plus the work sums' error.
+    """
+
+    input: np.ndarray
+    kinetic: np.ndarray
+    strain: np.ndarray
+    plastic: np.ndarray
+    contact: np.ndarray
+    friction: np.ndarray
+    residual: np.ndarray
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        if key not in self._names():
+            raise KeyError(key)
+        return getattr(self, key)
+
+    def __iter__(self):
+        return iter(self._names())
+
+    def __len__(self) -> int:
+        return len(self._names())
+
+    @classmethod
+    def _names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
 
 
 @dataclass(frozen=True)
@@ -60,12 +97,14 @@ class FEMResult:
     limit_states : dict
         ``"hinge"``, ``"rupture"``, ``"containment"`` → the time [s] the run first reached it,
         or None (not reached before the run ended; Eqs. F36, F51–F53).
-    failure_criterion : {"hinge", "rupture", "containment"}
-        The limit state that defines ``failed`` (containment is failure under any criterion).
+    limit_state : {"hinge", "rupture", "containment"}
+        The limit state that defines ``failed`` (containment is failure under any limit
+        state); ``failure_criterion`` is its deprecated alias.
     kinematics : {"small", "finite"}
-    energy : dict of ndarray [J]
+    energy : FEEnergy
         ``input``, ``kinetic``, ``strain``, ``plastic``, ``contact``, ``friction``,
-        ``residual`` (3-D, i.e. times the depth), at ``time``.
+        ``residual`` [J] (3-D, i.e. times the depth), at ``time``: attributes, or keys as a
+        mapping.
     failed : bool
     failure_mode : {"yielding", "uplift", None}
         "yielding": the rim let go (a hinge or rupture first, or the slider passed a rim bent
@@ -107,9 +146,9 @@ class FEMResult:
     max_plastic_strain: float
     hinge_times: dict
     limit_states: dict
-    failure_criterion: str
+    limit_state: str
     kinematics: str
-    energy: dict
+    energy: FEEnergy
     failed: bool
     failure_mode: str | None
     failure_time: float | None
@@ -128,6 +167,8 @@ class FEMResult:
     bearing: DFPBearing
     mesh: object = field(repr=False)
     edge_radius: float = 0.0
+
+    failure_criterion = deprecated_attribute("failure_criterion")
 
     @property
     def max_displacement(self) -> float:
@@ -154,6 +195,7 @@ class FEMResult:
         return head + "\nno failure"
 
 
+@renamed_limit_state()
 def simulate(
     bearing: DFPBearing,
     acceleration,
@@ -167,7 +209,7 @@ def simulate(
     penalty_factor: float = 10.0,
     stop_at_failure: bool = True,
     snapshot_every: int = 0,
-    failure_criterion: str = "hinge",
+    limit_state: str = "hinge",
     vertex_contact: bool = False,
     plasticity: bool = True,
     kinematics: str = "finite",
@@ -201,10 +243,12 @@ def simulate(
         Stop at the first failure (default).
     snapshot_every : int
         Keep the full field every n accepted steps for movies (0: none).
-    failure_criterion : {"hinge", "rupture", "containment"}
+    limit_state : {"hinge", "rupture", "containment"}
         The limit state that ends the run (with ``stop_at_failure``) and defines ``failed``:
         the first rim hinge, the rupture of a rim, or the loss of containment (the slider got
-        past a rim or overturned), which is failure under any criterion. All three are
+        past a rim or overturned), which is failure under any limit state (checked by
+        :func:`rigid.limit_states.check_limit_state`; ``failure_criterion``: its deprecated
+        name). All three are
         recorded in ``limit_states`` as far as the run goes (docs/theory/finite-elements.md,
         "Limit states").
     vertex_contact : bool
@@ -236,16 +280,14 @@ def simulate(
     -------
     FEMResult
     """
-    from rigid.model import check_model_input
+    from rigid.inputs import check_model_input
 
     from .dfp import build_system
     from .dynamics import HHTParameters, Integrator, StepControl
 
     a, duration = check_model_input(bearing, acceleration, dt, duration)
     record_end = (a.size - 1) * dt
-    if failure_criterion not in LIMIT_STATES:
-        raise ValueError(f"failure_criterion must be one of {', '.join(LIMIT_STATES)}, got "
-                         f"{failure_criterion!r}")
+    limit_state = check_limit_state(limit_state)
     if not (0 < impact_step <= max_step):
         raise ValueError("need 0 < impact_step ≤ max_step")
     t_grid = np.arange(a.size) * dt
@@ -259,79 +301,16 @@ def simulate(
         vertex_contact=vertex_contact, plasticity=plasticity, kinematics=kinematics,
         edge_radius=edge_radius, cache_dir=cache_dir,
     )
-    sysm, red, mesh = model.system, model.reduction, model.mesh
-    depth = model.depth
-    nodes = sysm.nodes
-    # slave nodes per rim (inner face and top), for forces and the impact step control
-    rim_of = np.full(len(nodes), -1)
-    for plate in ("bottom", "top"):
-        on_rim = np.unique(
-            np.concatenate(
-                [mesh.facets[:, mesh.boundaries[f"{plate}_{k}"]].ravel()
-                 for k in ("rim_inner", "rim_top")]
-            )
-        )
-        mask = np.isin(nodes.nodes, on_rim)
-        side = mesh.p[0, nodes.nodes] > 0
-        base = 0 if plate == "bottom" else 2
-        rim_of[mask & ~side] = base
-        rim_of[mask & side] = base + 1
+    red, depth = model.reduction, model.depth
+    rim_of = rim_of_nodes(model)
     rim_mask = rim_of >= 0
-    top_rows = red.P.getcol(model.top_x).nonzero()[0]
-    top_z_rows = red.P.getcol(model.top_z).nonzero()[0]
     watch = LimitStates(bearing, model)
-
-    hist: dict[str, list] = {k: [] for k in (
-        "t", "x", "z", "xs", "zs", "th", "shear", "dish", "rim", "root_p", "root_frac",
-        "regular")}
-    snaps = []
-    verdict: dict = {}
-    z_top0 = [None]
-
-    first_step = [max_step]
-
-    def observer(t, d, ev, state) -> bool:
-        pose = sysm.slider_pose(d)
-        con = ev.contact
-        p = state.material.eq_plastic_strain
-        hist["t"].append(t)
-        hist["x"].append(float(d[top_rows].mean()))
-        zt = float(d[top_z_rows].mean())
-        if z_top0[0] is None:
-            z_top0[0] = zt
-        hist["z"].append(zt - z_top0[0])
-        hist["xs"].append(pose[0])
-        hist["zs"].append(pose[1] - sysm.pose[1])
-        hist["th"].append(pose[2])
-        bottom = nodes.plate == 0
-        hist["shear"].append(float(con.node_force[0, bottom].sum()) * depth)
-        hist["dish"].append(
-            [float(con.normal[(nodes.plate == k) & ~rim_mask].sum()) * depth for k in (0, 1)]
-        )
-        hist["rim"].append(
-            [float(con.normal[rim_of == k].sum()) * depth for k in range(4)]
-        )
-        root_p, frac, regular = watch.update(t, d, pose, p)
-        hist["root_p"].append(root_p)
-        hist["root_frac"].append(frac)
-        hist["regular"].append(regular)
-        if snapshot_every and (len(hist["t"]) - 1) % snapshot_every == 0:
-            snaps.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
-        if max(regular) > PLASTIC_STRAIN_LIMIT:
-            verdict.setdefault("numerical", f"a rim's gauge-averaged plastic strain reached "
-                               f"{max(regular):.3g} at t = {t:.4f} s, beyond the model's range")
-            return True
-        if not verdict:
-            failed, when, mode, detail = watch.verdict(failure_criterion)
-            if failed:
-                if when <= first_step[0] and abs(hist["x"][-1]) < 1e-3:
-                    verdict["numerical"] = (f"failure at the first step ({detail}) without "
-                                            "motion: a numerical, not a physical, failure")
-                    return True
-                verdict.update(time=when, mode=mode, detail=detail)
-                if stop_at_failure:
-                    return True
-        return False
+    observer = Observer(
+        model=model, rim_of=rim_of, watch=watch, limit_state=limit_state,
+        stop_at_failure=stop_at_failure, snapshot_every=snapshot_every, first_step=max_step,
+        top_rows=red.P.getcol(model.top_x).nonzero()[0],
+        top_z_rows=red.P.getcol(model.top_z).nonzero()[0],
+    )
 
     integ = Integrator(
         model, ground, hht=HHTParameters(alpha),
@@ -342,36 +321,50 @@ def simulate(
         rim_mask=rim_mask,
     )
     out = integ.run(duration, observer)
-    state = out["state"]
-    d_final = red.expand(out["d"])
+    return _result(bearing, model, integ, out, observer, limit_state=limit_state,
+                   kinematics=kinematics, edge_radius=edge_radius, wall0=wall0)
+
+
+def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, edge_radius,
+            wall0) -> FEMResult:
+    """The run's :class:`FEMResult` from the integrator's outcome (``out``,
+    :class:`fem.dynamics.RunResult`) and what the observer recorded: histories, verdict
+    (failed, numerical, or neither), final fields, cost (``wall0``: the start's
+    ``perf_counter`` [s])."""
+    sysm, red, mesh, depth = model.system, model.reduction, model.mesh, model.depth
+    watch = observer.watch
+    state = out.state
+    d_final = red.expand(out.d)
     ev = sysm.evaluate(d_final, state)
-    H = {k: np.asarray(v) for k, v in hist.items()}
-    numerical = "numerical" in verdict or (bool(out["failed_numerically"]) and not verdict)
-    failed = "time" in verdict and not numerical
-    message = verdict.get("numerical") or out["message"] or None
+    h = observer.history.arrays()
+    verdict = observer.verdict
+    numerical = verdict.numerical is not None or (bool(out.failed_numerically)
+                                                  and not verdict.reached)
+    failed = verdict.time is not None and not numerical
+    message = verdict.numerical or out.message or None
     return FEMResult(
-        time=H["t"],
-        displacement=H["x"],
-        top_plate_rise=H["z"],
-        slider_displacement=H["xs"],
-        slider_rise=H["zs"],
-        slider_rotation=H["th"],
-        base_shear=H["shear"],
-        dish_force=H["dish"],
-        rim_force=H["rim"],
-        rim_root_plastic_strain=H["root_p"],
-        rim_root_yielded_fraction=H["root_frac"],
-        rim_regularised_plastic_strain=H["regular"],
+        time=h.t,
+        displacement=h.x,
+        top_plate_rise=h.z,
+        slider_displacement=h.xs,
+        slider_rise=h.zs,
+        slider_rotation=h.th,
+        base_shear=h.shear,
+        dish_force=h.dish,
+        rim_force=h.rim,
+        rim_root_plastic_strain=h.root_p,
+        rim_root_yielded_fraction=h.root_frac,
+        rim_regularised_plastic_strain=h.regular,
         max_plastic_strain=float(state.material.eq_plastic_strain.max()),
         hinge_times=dict(watch.hinge_times),
         limit_states=dict(watch.times),
-        failure_criterion=failure_criterion,
+        limit_state=limit_state,
         kinematics=kinematics,
-        energy={k: v * depth for k, v in out["energy"].items()},
+        energy=FEEnergy(**{k: v * depth for k, v in out.energy.items()}),
         failed=failed,
-        failure_mode=verdict.get("mode") if failed else None,
-        failure_time=verdict.get("time") if failed else None,
-        failure_detail=verdict.get("detail") if failed else message,
+        failure_mode=verdict.mode if failed else None,
+        failure_time=verdict.time if failed else None,
+        failure_detail=verdict.detail if failed else message,
         numerical_failure=numerical,
         steps=integ.steps,
         newton_iterations=integ.newton_iterations,
@@ -382,7 +375,7 @@ def simulate(
         final_displacement=d_final,
         final_plastic_strain=state.material.eq_plastic_strain,
         final_stress=ev.material.stress,
-        snapshots=tuple(snaps),
+        snapshots=tuple(observer.snapshots),
         bearing=bearing,
         mesh=mesh,
         edge_radius=edge_radius,

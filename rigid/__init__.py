@@ -3,12 +3,14 @@
 Bao & Becker (2016), *Predicting failure in sliding isolation bearings under long-period
 motions*, reproduced and extended. SI units throughout (m, s, kg, N, Pa; m/s²).
 
-Layout: the model itself (:mod:`rigid.bearing`, :mod:`rigid.model` and its Numba kernel;
-:mod:`rigid.rims`, the law of its yielding rims);
-:mod:`rigid.motions` (records, record sets, pulses, spectra, pulse extraction);
-:mod:`rigid.impact` (impact spectra, paper §3); :mod:`rigid.collapse` (critical SA, its
-prediction, fragility, paper §4); :mod:`rigid.tasks` (result store, cache, task runner).
-Every public name is importable from ``rigid`` itself.
+Layout: the neutral base that ``fem`` and ``validation`` build on too (:mod:`rigid.units`,
+:mod:`rigid.bearing`, :mod:`rigid.limit_states`, :mod:`rigid.inputs`, :mod:`rigid.limits`;
+:mod:`rigid.tasks`: result store, cache, task runner); the model itself (:mod:`rigid.model`
+and its Numba kernel; :mod:`rigid.rims`, the law of its yielding rims as data, computed by
+``fem.rim_law``); :mod:`rigid.motions` (records, record sets, pulses, spectra, pulse
+extraction); :mod:`rigid.impact` (impact spectra, paper §3); :mod:`rigid.collapse` (critical
+SA, its prediction, fragility, paper §4). ``rigid`` never imports ``fem`` or ``validation``
+(docs/architecture.md). Every public name is importable from ``rigid`` itself.
 """
 
 from .bearing import DFPBearing, jankowski_damping_ratio
@@ -35,6 +37,7 @@ from .impact import (
     region_boundaries,
     save_spectrum,
 )
+from .limit_states import LIMIT_STATES, check_limit_state
 from .model import Impact, NumericalInstabilityError, SimulationResult, simulate
 from .motions import (
     GroundMotion,
@@ -58,6 +61,7 @@ from .rims import RimLaw, rim_law
 from .units import G
 
 __all__ = [
+    "LIMIT_STATES",
     "CollapseMargin",
     "CriticalSA",
     "DFPBearing",
@@ -73,6 +77,7 @@ __all__ = [
     "SimulationResult",
     "SweepSettings",
     "best_pulse",
+    "check_limit_state",
     "collapse_margin",
     "critical_sa",
     "critical_sas",

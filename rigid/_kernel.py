@@ -210,6 +210,35 @@ def _apply(slot, delta, nx, nz, px, pz, top, meff, mu, p, q, v, h, Z, gen, acc, 
     return f_el
 
 
+@njit(cache=True, inline="always")
+def _corner_contact(dx, dz, c, s, hb, hs, R):
+    """A rim's inner corner against the slider's section (Eq. R24): the corner at (dx, dz) [m]
+    from the slider's centre, the slider turned by θ (c = cos θ, s = sin θ), its half width
+    ``hb``, height ``hs`` and face radius ``R`` [m]. Returns the depth [m] of the corner below
+    the nearest face of the section (flat side, spherical bottom or top; 0.0 if outside) and
+    the force's direction on the slider (−the outward normal of that face, global)."""
+    qx = c * dx + s * dz  # corner in the slider's body frame
+    qz = -s * dx + c * dz
+    dside = hb - abs(qx)
+    if dside <= 0.0 or abs(qz) > hs:
+        return 0.0, 0.0, 0.0
+    # depth below each face of the section: side (flat), bottom and top (spherical)
+    db = R - math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
+    dt_ = R - math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
+    if db <= 0.0 or dt_ <= 0.0:
+        return 0.0, 0.0, 0.0
+    if dside <= db and dside <= dt_:
+        delta, nbx, nbz = dside, (1.0 if qx > 0 else -1.0), 0.0
+    elif db <= dt_:
+        ln = math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
+        delta, nbx, nbz = db, qx / ln, (qz + hs / 2 - R) / ln
+    else:
+        ln = math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
+        delta, nbx, nbz = dt_, qx / ln, (qz - hs / 2 + R) / ln
+    # outward body normal to global; the force on the slider points inward (−n_out)
+    return delta, -(c * nbx - s * nbz), -(s * nbx + c * nbz)
+
+
 @njit(cache=True)
 def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff, rim_set, law, buf, count):
     """Generalized contact forces at configuration q with velocities v.
@@ -315,31 +344,10 @@ def forces(p, q, v, Z, h, gen, acc, rimf, sep, vert, stiff, rim_set, law, buf, c
             kx, kz = xt + side * rin, zt + hs - ztop
         else:
             kx, kz = side * rin, ztop
-        dx = kx - xs
-        dz = kz - zs
-        qx = c * dx + s * dz  # corner in the slider's body frame
-        qz = -s * dx + c * dz
-        dside = hb - abs(qx)
-        if dside <= 0.0 or abs(qx) > hb or abs(qz) > hs:
+        delta, nx, nz = _corner_contact(kx - xs, kz - zs, c, s, hb, hs, R)
+        if delta <= 0.0:
             Z[8 + r] = 0.0
             continue
-        # depth below each face of the section: side (flat), bottom and top (spherical)
-        db = R - math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
-        dt_ = R - math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
-        if db <= 0.0 or dt_ <= 0.0:
-            Z[8 + r] = 0.0
-            continue
-        if dside <= db and dside <= dt_:
-            delta, nbx, nbz = dside, (1.0 if qx > 0 else -1.0), 0.0
-        elif db <= dt_:
-            ln = math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
-            delta, nbx, nbz = db, qx / ln, (qz + hs / 2 - R) / ln
-        else:
-            ln = math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
-            delta, nbx, nbz = dt_, qx / ln, (qz - hs / 2 + R) / ln
-        # outward body normal to global; the force on the slider points inward (−n_out)
-        nx = -(c * nbx - s * nbz)
-        nz = -(s * nbx + c * nbz)
         meff = p[P_MEFF_TOP] if is_top else p[P_MEFF_BOT]
         dmax = max(dmax, delta)
         rimf[r] += _apply(8 + r, delta, nx, nz, kx, kz, is_top, meff, p[P_MU_RIM], p, q, v, h,
@@ -510,26 +518,10 @@ def _yielding_rims(p, q, v, Z, h, gen, acc, rimf, vert, stiff, rim_set, law, buf
         side = 1.0 if r % 2 == 1 else -1.0
         xf, z0, height = rim_geometry(p, q, r, rim_set[r])
         kx, kz = xf, z0 + (-height if r >= 2 else height)
-        dx = kx - xs
-        dz = kz - zs
-        qx = c * dx + s * dz
-        qz = -s * dx + c * dz
-        dside = hb - abs(qx)
-        db = R - math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
-        dt_ = R - math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
-        if dside <= 0.0 or abs(qz) > hs or db <= 0.0 or dt_ <= 0.0:
+        delta, nx, nz = _corner_contact(kx - xs, kz - zs, c, s, hb, hs, R)
+        if delta <= 0.0:
             Z[8 + r] = 0.0
             continue
-        if dside <= db and dside <= dt_:
-            delta, nbx, nbz = dside, (1.0 if qx > 0 else -1.0), 0.0
-        elif db <= dt_:
-            ln = math.sqrt(qx * qx + (qz + hs / 2 - R) ** 2)
-            delta, nbx, nbz = db, qx / ln, (qz + hs / 2 - R) / ln
-        else:
-            ln = math.sqrt(qx * qx + (qz - hs / 2 + R) ** 2)
-            delta, nbx, nbz = dt_, qx / ln, (qz - hs / 2 + R) / ln
-        nx = -(c * nbx - s * nbz)
-        nz = -(s * nbx + c * nbz)
         b = buf[r, count[r]]
         b[B_SLOT], b[B_GAP], b[B_NX], b[B_NZ], b[B_PX], b[B_PZ] = 8 + r, delta, nx, nz, kx, kz
         b[B_SHARE] = max(0.0, -side * nx)

@@ -1,16 +1,19 @@
-"""Rigid-body model of the DFP bearing: :func:`simulate` and its result (paper §2; the
-equations are in docs/theory/rigid-body.md)."""
+"""Rigid-body model of the DFP bearing: :func:`simulate` (paper §2; the equations are in
+docs/theory/rigid-body.md), the kernel's parameters and the static state; the result classes
+are in :mod:`rigid.results` (importable from here too)."""
 
 from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
 
 import numpy as np
 
 from . import _kernel as K
 from .bearing import DFPBearing
+from .inputs import check_model_input
+from .limit_states import RIM_MODELS, check_limit_state, renamed_limit_state
+from .results import EnergyBalance, Impact, NumericalInstabilityError, SimulationResult
 from .units import G
 
 #: Default largest internal step [s], the fine step near and at the rims; chosen by a step
@@ -41,192 +44,17 @@ _FAILURE_DETAIL = {
 _PHYSICAL = (K.FAIL_BOTTOM_RIM, K.FAIL_TOP_RIM, K.FAIL_CENTROID, K.FAIL_OVERTURN, K.FAIL_HINGE,
              K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP)
 _YIELDING = (K.FAIL_HINGE, K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP)
-#: rim models of :func:`simulate`
-RIMS = ("rigid", "yielding")
+__all__ = ["DEFAULT_MAX_STEP", "FAR_STEP", "RIM_NAMES", "EnergyBalance", "Impact",
+           "NumericalInstabilityError", "SimulationResult", "check_model_input", "simulate"]
 
 
-class NumericalInstabilityError(RuntimeError):
-    """The integration went unstable (a numerical, not a physical, failure)."""
-
-
-@dataclass(frozen=True)
-class Impact:
-    """One rim impact: the first contact of a rim after it was free for the merge time.
-
-    Attributes
-    ----------
-    time : float [s]
-    rim : str
-        ``"bottom -x"``, ``"bottom +x"``, ``"top -x"`` or ``"top +x"``.
-    velocity : float [m/s]
-        Horizontal velocity of the top plate relative to the bottom plate at first contact.
-    peak_force : float [N]
-        Largest total normal force on that rim during the impact.
-    duration : float [s]
-        Time from first contact to the last contact of the (merged) impact.
-    """
-
-    time: float
-    rim: str
-    velocity: float
-    peak_force: float
-    duration: float
-
-
-@dataclass(frozen=True)
-class EnergyBalance:
-    """Energy histories [J] at the result's sampling; all start at zero.
-
-    ``potential`` is gravity plus the contacts' (and yielding rims') elastic energy;
-    ``friction``, ``impact`` and ``plastic`` are the energies dissipated by friction, by the
-    contact dampers and by the yielding rims' plastic flow (zero with rigid rims); ``input`` is
-    the work of the inertial loads −m·a_g on the bodies' motions relative to the ground.
-    """
-
-    input: np.ndarray
-    kinetic: np.ndarray
-    potential: np.ndarray
-    friction: np.ndarray
-    impact: np.ndarray
-    plastic: np.ndarray
-
-    @property
-    def residual(self) -> np.ndarray:
-        """input − (kinetic + potential + friction + impact + plastic) [J]; zero for exact
-        integration."""
-        return self.input - (self.kinetic + self.potential + self.friction + self.impact
-                             + self.plastic)
-
-    @property
-    def relative_error(self) -> float:
-        """Largest |residual| over the largest input energy [-]."""
-        scale = np.max(np.abs(self.input))
-        return float(np.max(np.abs(self.residual)) / scale) if scale > 0 else 0.0
-
-
-@dataclass(frozen=True)
-class SimulationResult:
-    """Response of the rigid-body model. Histories are sampled at ``time``.
-
-    Attributes
-    ----------
-    time : ndarray [s]
-    displacement : ndarray [m]
-        Horizontal displacement of the top plate relative to the bottom plate.
-    top_plate_rise : ndarray [m]
-        Vertical displacement of the top plate from its static position.
-    slider_displacement, slider_rise : ndarray [m]
-        Slider centroid horizontal position and vertical displacement from rest.
-    slider_rotation : ndarray [rad]
-        Counter-clockwise positive.
-    velocity : ndarray [m/s]
-        Horizontal velocity of the top plate relative to the bottom plate.
-    base_shear : ndarray [N]
-        Horizontal force of the bearing on the bottom plate, positive along +x.
-    rim_force : ndarray [N]
-        Sum of the normal forces on all four rims.
-    energy : EnergyBalance
-    impacts : tuple of Impact
-    failed : bool
-        Physical failure under ``failure_criterion``: the slider escaped over or through a
-        rim or overturned (lost containment, failure under any criterion), or, with yielding
-        rims, a rim reached the hinge or rupture asked for.
-    failure_time : float or None [s]
-    failure_mode : {"uplift", "yielding", None}
-        "yielding" if a rim hinged or ruptured (the criterion) or let the slider through, or
-        the centroid passed a rim after a hinge; "uplift" if the slider climbed over a rim or
-        overturned (docs/theory/rigid-body.md, Eq. R63). Rigid rims fail by uplift only.
-    failure_detail : str or None
-    numerical_failure : bool
-        The integration went unstable; the response after ``failure_time`` is missing.
-    max_uplift : float [m]
-        Largest separation of a slider face from its dish, both vertices clear.
-    max_rotation : float [rad]
-    max_penetration : float [m]
-    max_rim_force : float [N]
-    internal_step : float [s]
-    steps : int
-        Simulated time in internal (fine) steps.
-    steps_taken : int
-        Integration steps actually taken, fine and coarse (the cost of the run).
-    bearing : DFPBearing
-    rims : {"rigid", "yielding"}
-    failure_criterion : {"hinge", "rupture", "containment"}
-    limit_states : dict
-        Limit state → time [s] it was first reached, or None, as far as the run went
-        (``"hinge"`` and ``"rupture"`` only with yielding rims; Eq. R62).
-    rim_sets : tuple of float [m]
-        Permanent outward set of each rim at the end (order of ``RIM_NAMES``; zeros with rigid
-        rims).
-    rim_set : ndarray [m]
-        History of the largest permanent rim set.
-    """
-
-    time: np.ndarray
-    displacement: np.ndarray
-    top_plate_rise: np.ndarray
-    slider_displacement: np.ndarray
-    slider_rise: np.ndarray
-    slider_rotation: np.ndarray
-    velocity: np.ndarray
-    base_shear: np.ndarray
-    rim_force: np.ndarray
-    energy: EnergyBalance
-    impacts: tuple
-    failed: bool
-    failure_time: float | None
-    failure_mode: str | None
-    failure_detail: str | None
-    numerical_failure: bool
-    max_uplift: float
-    max_rotation: float
-    max_penetration: float
-    max_rim_force: float
-    internal_step: float
-    steps: int
-    steps_taken: int
-    bearing: DFPBearing
-    rims: str
-    failure_criterion: str
-    limit_states: dict
-    rim_sets: tuple
-    rim_set: np.ndarray
-
-    @property
-    def max_impact_velocity(self) -> float:
-        """Largest |velocity| over all impacts [m/s]; 0 when there was no impact."""
-        return max((abs(i.velocity) for i in self.impacts), default=0.0)
-
-    @property
-    def max_displacement(self) -> float:
-        """Largest |displacement| [m]."""
-        return float(np.max(np.abs(self.displacement)))
-
-    def summary(self) -> str:
-        """One paragraph for the console."""
-        lines = [
-            f"{len(self.impacts)} rim impact(s); max impact velocity "
-            f"{self.max_impact_velocity:.3f} m/s; max displacement {self.max_displacement:.3f} m; "
-            f"max uplift {self.max_uplift * 1e3:.1f} mm; max slider rotation "
-            f"{math.degrees(self.max_rotation):.2f}°"
-        ]
-        for i in self.impacts:
-            lines.append(
-                f"  t = {i.time:7.3f} s  {i.rim:9s}  v = {i.velocity:+.3f} m/s  "
-                f"peak force {i.peak_force / 1e6:.2f} MN"
-            )
-        if self.failed:
-            lines.append(
-                f"FAILED by {self.failure_mode} at t = {self.failure_time:.3f} s: "
-                f"{self.failure_detail}"
-            )
-        elif self.numerical_failure:
-            lines.append(
-                f"NUMERICAL FAILURE at t = {self.failure_time:.3f} s: {self.failure_detail}"
-            )
-        else:
-            lines.append("no failure")
-        return "\n".join(lines)
+def __getattr__(name):
+    if name == "RIMS":  # the rim models, now rigid.limit_states.RIM_MODELS ("RIMS" also
+        # named the four rims in fem)
+        warnings.warn("rigid.model.RIMS is deprecated, use rigid.limit_states.RIM_MODELS",
+                      DeprecationWarning, stacklevel=2)
+        return RIM_MODELS
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def kernel_parameters(bearing: DFPBearing) -> np.ndarray:
@@ -322,54 +150,6 @@ def reach_energy(bearing: DFPBearing) -> float:
     return bearing.supported_mass * G * arm * (1 - math.cos(bearing.capacity_tilt))
 
 
-def check_model_input(bearing, acceleration, dt, duration) -> tuple[np.ndarray, float]:
-    """The inputs shared by the rigid and the FE model checked before anything is allocated:
-    ``bearing`` a DFPBearing (TypeError) with a slider pressure [Pa] in
-    :data:`rigid.limits.PRESSURE_RANGE`; the ground acceleration [m/s²] 1-D with at least two
-    finite samples, none beyond :data:`rigid.limits.MAX_MODEL_ACCELERATION`; dt [s] positive;
-    ``duration`` [s] (None: the record's length) positive, at most
-    :data:`rigid.limits.MAX_MODEL_DURATION` and at most
-    :data:`rigid.limits.MAX_MODEL_SAMPLES` samples of dt (ValueError naming what is wrong;
-    the limits and their reasons are in docs/limits.md). Returns the acceleration as a
-    contiguous float array and the duration."""
-    from .limits import (
-        MAX_MODEL_ACCELERATION,
-        MAX_MODEL_DURATION,
-        MAX_MODEL_SAMPLES,
-        PRESSURE_RANGE,
-        check_range,
-    )
-
-    if not isinstance(bearing, DFPBearing):
-        raise TypeError(f"bearing must be a DFPBearing, got {type(bearing).__name__}")
-    check_range("the slider pressure", bearing.pressure, *PRESSURE_RANGE, "Pa",
-                why="what sliding bearings are designed for")
-    a = np.asarray(acceleration, dtype=float)
-    if a.ndim != 1:
-        raise ValueError(f"acceleration must be one-dimensional, got shape {a.shape}")
-    if a.size < 2:
-        raise ValueError("acceleration must have at least two samples")
-    if not np.all(np.isfinite(a)):
-        bad = int(np.flatnonzero(~np.isfinite(a))[0])
-        raise ValueError(f"acceleration has a non-finite value at sample {bad}")
-    peak = int(np.argmax(np.abs(a)))
-    check_range(f"the ground acceleration (sample {peak})", abs(a[peak]), None,
-                MAX_MODEL_ACCELERATION, "m/s2",
-                why="beyond it a response is numerical, not physical")
-    if not (isinstance(dt, (int, float, np.floating)) and math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
-    duration = (a.size - 1) * dt if duration is None else float(duration)
-    if not (math.isfinite(duration) and duration > 0):
-        raise ValueError(f"duration must be a positive number of seconds, got {duration!r}")
-    check_range("the simulated duration", duration, None, MAX_MODEL_DURATION, "s",
-                why="the longest record and its free vibration")
-    if duration / dt > MAX_MODEL_SAMPLES:
-        raise ValueError(f"the simulation would keep {duration / dt:.3g} samples (duration "
-                         f"{duration:g} s / dt {dt:g} s), more than {MAX_MODEL_SAMPLES:.0e}; "
-                         "use a longer dt")
-    return np.ascontiguousarray(a), duration
-
-
 def internal_steps(dt: float, max_step: float, far_step: float = FAR_STEP,
                    coarse_factor: int | None = None) -> tuple[int, int]:
     """Fine steps per input sample and fine steps per coarse step, ``(n, m_c)``: the fine step
@@ -384,6 +164,7 @@ def internal_steps(dt: float, max_step: float, far_step: float = FAR_STEP,
     return per_sample * coarse, coarse
 
 
+@renamed_limit_state()
 def simulate(
     bearing: DFPBearing,
     acceleration,
@@ -399,7 +180,7 @@ def simulate(
     coarse_factor: int | None = None,
     stop_when_quiet: bool = False,
     rims: str = "rigid",
-    failure_criterion: str | None = None,
+    limit_state: str | None = None,
     rim_law=None,
 ) -> SimulationResult:
     """Run the rigid-body DFP model on a horizontal ground acceleration.
@@ -447,14 +228,17 @@ def simulate(
         Rims that cannot yield (the paper's model, default), or elastoplastic rims in series
         with the contacts, bending outward by a permanent set (docs/theory/rigid-body.md,
         "Yielding rims", Eqs. R55–R63).
-    failure_criterion : {"hinge", "rupture", "containment"}, optional
+    limit_state : {"hinge", "rupture", "containment"}, optional
         The limit state that defines ``failed`` and ends the run (with ``stop_at_failure``):
         a rim's hinge, its rupture, or the loss of containment, which is failure under any
-        criterion. Default "hinge" with yielding rims (as :func:`fem.simulate`); rigid rims
-        have only "containment".
-    rim_law : rigid.rims.RimLaw, optional
-        The yielding rims' law; default :func:`rigid.rims.rim_law` of the bearing (pushes of
-        the FE companion's rim, cached).
+        limit state (:func:`rigid.limit_states.check_limit_state`). Default "hinge" with
+        yielding rims (as :func:`fem.simulate`); rigid rims have only "containment".
+        (``failure_criterion``: deprecated name.)
+    rim_law : rigid.rims.RimLaw
+        The yielding rims' law, needed with ``rims="yielding"``: computed by the FE companion,
+        ``fem.rim_law(bearing)`` (pushes of its rim, cached per rim geometry). Without it
+        the law is still computed through ``fem`` with a DeprecationWarning (for one
+        release); the rigid model itself never imports ``fem``.
 
     Returns
     -------
@@ -475,13 +259,13 @@ def simulate(
         raise ValueError(f"max_impacts must be a positive integer, got {max_impacts!r}")
     if impact_merge_time < 0:
         raise ValueError(f"impact_merge_time must be ≥ 0 s, got {impact_merge_time!r}")
-    criterion = _check_rims(rims, failure_criterion)
+    limit_state = check_limit_state(limit_state, rims=rims)
 
     p = kernel_parameters(bearing)
     p[K.P_MERGE] = impact_merge_time
     law = np.zeros((1, 2))
     if rims == "yielding":
-        law = _set_rim_parameters(p, bearing, criterion, rim_law)
+        law = _set_rim_parameters(p, bearing, limit_state, rim_law)
     n_samples = math.floor(duration / dt + 1e-9)
     hist = np.empty((n_samples + 1, K.N_CHANNELS))
     events = np.zeros((int(max_impacts), K.EVENT_FIELDS))
@@ -497,6 +281,17 @@ def simulate(
         if int(summary[K.S_STATUS]) != K.STATUS_NUMERICAL:
             break
 
+    return _result(bearing, dt, record_every, on_instability, rims, limit_state, h, summary,
+                   hist, events)
+
+
+def _result(bearing, dt, record_every, on_instability, rims, limit_state, h, summary, hist,
+            events) -> SimulationResult:
+    """The run's :class:`SimulationResult` from the kernel's outputs (``summary``, histories
+    ``hist``, impact ``events``; ``h`` [s]: the internal step of the last attempt): the
+    verdict (a numerical failure raised, reported with a warning, as ``on_instability``
+    says), the limit states (Eq. R62), the failure mode and the histories kept every
+    ``record_every`` samples of ``dt`` [s]."""
     status = int(summary[K.S_STATUS])
     code = int(summary[K.S_FAIL_CODE])
     fail_time = float(summary[K.S_FAIL_TIME])
@@ -505,7 +300,7 @@ def simulate(
         message = f"{_FAILURE_DETAIL[code]} at t = {fail_time:.4f} s (internal step {h:.3g} s)"
         if on_instability != "report":
             raise NumericalInstabilityError(message)
-        warnings.warn(message, RuntimeWarning, stacklevel=2)
+        warnings.warn(message, RuntimeWarning, stacklevel=4)
     physical = (not numerical) and code in _PHYSICAL
     limit_states = _limit_states(summary, rims, physical, fail_time)
     mode = None
@@ -546,35 +341,18 @@ def simulate(
         steps_taken=int(summary[K.S_TAKEN]),
         bearing=bearing,
         rims=rims,
-        failure_criterion=criterion,
+        limit_state=limit_state,
         limit_states=limit_states,
         rim_sets=tuple(float(x) for x in summary[K.S_SET:K.S_SET + K.N_RIMS]),
         rim_set=hs[:, K.H_SET].copy(),
     )
 
 
-def _check_rims(rims: str, failure_criterion: str | None) -> str:
-    """The failure criterion of a run (ValueError for an unknown rim model or criterion)."""
-    from .limit_states import LIMIT_STATES
-
-    if rims not in RIMS:
-        raise ValueError(f"rims must be one of {', '.join(RIMS)}, got {rims!r}")
-    if failure_criterion is None:
-        return "hinge" if rims == "yielding" else "containment"
-    if failure_criterion not in LIMIT_STATES:
-        raise ValueError(f"failure_criterion must be one of {', '.join(LIMIT_STATES)}, got "
-                         f"{failure_criterion!r}")
-    if rims == "rigid" and failure_criterion != "containment":
-        raise ValueError(f"rims='rigid' cannot yield, so failure_criterion "
-                         f"{failure_criterion!r} cannot be reached; use rims='yielding'")
-    return failure_criterion
-
-
-def _set_rim_parameters(p, bearing: DFPBearing, criterion: str, law) -> np.ndarray:
+def _set_rim_parameters(p, bearing: DFPBearing, limit_state: str, law) -> np.ndarray:
     """Put the yielding rims' parameters into the kernel's vector; their backbone table."""
-    from .rims import rim_law
+    from .rims import resolve_rim_law
 
-    law = rim_law(bearing) if law is None else law
+    law = resolve_rim_law(bearing, law, stacklevel=4)
     p[K.P_YIELDING] = 1.0
     p[K.P_HR] = bearing.rim_height
     p[K.P_KEL] = law.stiffness
@@ -582,7 +360,7 @@ def _set_rim_parameters(p, bearing: DFPBearing, criterion: str, law) -> np.ndarr
     p[K.P_UP_HINGE] = law.hinge_set
     p[K.P_UP_RUPTURE] = law.rupture_set
     p[K.P_CRITERION] = {"containment": K.CRIT_CONTAINMENT, "hinge": K.CRIT_HINGE,
-                        "rupture": K.CRIT_RUPTURE}[criterion]
+                        "rupture": K.CRIT_RUPTURE}[limit_state]
     return law.table
 
 

@@ -1,14 +1,19 @@
-"""The yielding rims' law: the force–deflection curve of a rim, derived from a static push of
-the rim by the FE companion (:func:`fem.rim_pushover`) and cached per bearing geometry and
-steel (docs/theory/rigid-body.md, "Yielding rims", Eqs. R55–R63).
+"""The yielding rims' law as data: :class:`RimLaw`, the force–deflection curve of a rim, built
+by :func:`rim_law_from_push` (numpy only) from static pushes of the rim, and where it is
+cached per rim geometry and steel (docs/theory/rigid-body.md, "Yielding rims", Eqs.
+R55–R63).
 
-Call :func:`rim_law`; :func:`rigid.simulate` does so itself with ``rims="yielding"``.
+The pushes are run by the FE companion: ``fem.rim_law(bearing)`` computes (or reads from the
+cache) the law, which is handed to :func:`rigid.simulate` as ``rim_law=``. The rigid model
+never imports ``fem`` (docs/architecture.md); :func:`resolve_rim_law` keeps, for one release
+and with a DeprecationWarning, the old behaviour of a yielding run without a law.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,12 +21,14 @@ import numpy as np
 
 from .bearing import DFPBearing
 
-__all__ = ["RimLaw", "rim_law", "rim_law_from_push"]
+__all__ = ["RimLaw", "load_rim_law", "resolve_rim_law", "rim_law", "rim_law_cache_file",
+           "rim_law_from_push", "save_rim_law"]
 
-#: The push (fem.rim_pushover): to 1.5 mm in 60 increments of 0.025 mm, which resolve the
-#: bend from the elastic line to the hinge (about 0.1–0.6 mm for the baseline rim; a stiffer
-#: rim that has not hinged by then is pushed twice as far, in increments of the same size,
-#: until it has), then to half the rim height in the default 40 increments.
+#: The push (fem.rim_pushover, run by fem.rim_law): to 1.5 mm in 60 increments of 0.025 mm,
+#: which resolve the bend from the elastic line to the hinge (about 0.1–0.6 mm for the
+#: baseline rim; a stiffer rim that has not hinged by then is pushed twice as far, in
+#: increments of the same size, until it has), then to half the rim height in the default 40
+#: increments.
 FINE_PUSH = (1.5e-3, 60)
 #: Elastic push [m]: a tenth of a millimetre, in two increments, with elastic steel.
 ELASTIC_PUSH = 1e-4
@@ -140,7 +147,11 @@ def _beyond_push(sets, forces, lever):
             np.concatenate([forces, forces[-1] * c_end / cos]))
 
 
-def _cache_file(bearing: DFPBearing) -> Path:
+def rim_law_cache_file(bearing: DFPBearing) -> Path:
+    """Where the law of a bearing's rims is cached: ``rim-laws/<key>.npz`` in the library's
+    cache folder (:func:`rigid.tasks.cache_root`), keyed by the rim geometry and steel (every
+    field of the bearing but the pressure), the push settings above and the code of the FE
+    companion and of this module (``code_hash("fem", "rim-law")``)."""
     from .tasks import cache_root, task_key
 
     # the bottom plate and its steel: everything but the load on it
@@ -150,40 +161,49 @@ def _cache_file(bearing: DFPBearing) -> Path:
     return cache_root() / "rim-laws" / f"{key}.npz"
 
 
+def load_rim_law(path: Path) -> RimLaw:
+    """A law saved by :func:`save_rim_law` (an ``.npz`` file of its fields)."""
+    with np.load(path) as data:
+        fields = {f.name: data[f.name] for f in dataclasses.fields(RimLaw)}
+    return RimLaw(**{k: (v if v.ndim else float(v)) for k, v in fields.items()})
+
+
+def save_rim_law(law: RimLaw, path: Path) -> None:
+    """Write ``law`` to ``path`` (``.npz``), atomically (a reader never sees half a file)."""
+    from .tasks import atomic_path
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, **dataclasses.asdict(law))
+
+
+def resolve_rim_law(bearing: DFPBearing, law: RimLaw | None, *, stacklevel: int = 2) -> RimLaw:
+    """The law a yielding-rim run uses: ``law`` when given (a :class:`RimLaw`), else, for one
+    release and with a DeprecationWarning, ``fem.rim_law(bearing)``: the one place the rigid
+    package reaches into ``fem`` (lazily, on this deprecated path only; docs/architecture.md).
+    Without ``fem`` installed, a RuntimeError says how to get the law."""
+    if law is not None:
+        if not isinstance(law, RimLaw):
+            raise TypeError(f"rim_law must be a rigid.rims.RimLaw, got {type(law).__name__}")
+        return law
+    warnings.warn("rims='yielding' without rim_law= is deprecated: compute the law with "
+                  "fem.rim_law(bearing) and pass it as rim_law=", DeprecationWarning,
+                  stacklevel=stacklevel + 1)
+    try:
+        from fem.rim_laws import rim_law as fe_rim_law  # deprecated path (see above)
+    except ImportError as exc:
+        raise RuntimeError("rims='yielding' needs the rims' law: compute it with "
+                           "fem.rim_law(bearing) (the fem extra) and pass it as rim_law=; "
+                           f"fem could not be imported ({exc})") from None
+    return fe_rim_law(bearing)
+
+
 def rim_law(bearing: DFPBearing, *, cache: bool = True) -> RimLaw:
-    """The law of the bearing's rims, from pushes of the FE companion's rim (finite
-    deformation, default mesh; docs/theory/finite-elements.md, "Rim push"), cached in the
-    library's cache folder (:func:`rigid.tasks.cache_root`) per geometry and steel; the first
-    call for a bearing runs the pushes (about 20 s of CPU).
+    """Deprecated alias of ``fem.rim_law`` (the law is computed by the FE companion; this
+    alias imports it on call, with a DeprecationWarning, for one release)."""
+    warnings.warn("rigid.rim_law / rigid.rims.rim_law moved to fem.rim_law", DeprecationWarning,
+                  stacklevel=2)
+    from fem.rim_laws import rim_law as fe_rim_law  # deprecated path (see resolve_rim_law)
 
-    Parameters
-    ----------
-    bearing : DFPBearing
-        Its rims' geometry, steel and rupture strain (the pressure does not matter).
-    cache : bool
-        Read and write the cache.
-    """
-    path = _cache_file(bearing)
-    if cache and path.exists():
-        with np.load(path) as data:
-            fields = {f.name: data[f.name] for f in dataclasses.fields(RimLaw)}
-        return RimLaw(**{k: (v if v.ndim else float(v)) for k, v in fields.items()})
-    from fem import rim_pushover
-
-    elastic = rim_pushover(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
-    stiffness = float(elastic.force[-1] / elastic.displacement[-1])
-    reach, steps = FINE_PUSH
-    fine = rim_pushover(bearing, displacement=reach, steps=steps)
-    while fine.hinge_displacement is None and 2 * reach <= bearing.rim_height / 2:
-        reach, steps = 2 * reach, 2 * steps
-        fine = rim_pushover(bearing, displacement=reach, steps=steps)
-    full = rim_pushover(bearing)
-    law = rim_law_from_push(bearing, stiffness, fine, full)
-    if cache:
-        from .tasks import atomic_path
-
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_path(path) as tmp:
-            with open(tmp, "wb") as f:
-                np.savez(f, **dataclasses.asdict(law))
-    return law
+    return fe_rim_law(bearing, cache=cache)

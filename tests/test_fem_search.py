@@ -149,10 +149,10 @@ STATE_PGA = {"hinge": 2.0, "rupture": 2.5, "containment": 3.0}
 NUMERICAL_PGA = [math.inf, math.inf]
 
 
-def limit_state_runner(bearing, acceleration, dt, scale, *, criterion, **settings):
+def limit_state_runner(bearing, acceleration, dt, scale, *, limit_state, **settings):
     """Stand-in for fem_run with limit states: each is reached once the scaled PGA passes its
-    STATE_PGA; the run stops at ``criterion`` (later states not recorded); runs with a PGA in
-    the NUMERICAL_PGA band are numerical."""
+    STATE_PGA; the run stops at ``limit_state`` (later states not recorded); runs with a PGA
+    in the NUMERICAL_PGA band are numerical."""
     CALLS.append(scale)
     pga = scale * np.max(np.abs(acceleration))
     if NUMERICAL_PGA[0] <= pga < NUMERICAL_PGA[1]:
@@ -160,12 +160,12 @@ def limit_state_runner(bearing, acceleration, dt, scale, *, criterion, **setting
                 "failure_time": None, "limit_states": dict.fromkeys(STATE_PGA),
                 "cpu_seconds": 0.0}
     order = list(STATE_PGA)
-    times = {k: (1.0 + i if pga >= STATE_PGA[k] and i <= order.index(criterion) else None)
+    times = {k: (1.0 + i if pga >= STATE_PGA[k] and i <= order.index(limit_state) else None)
              for i, k in enumerate(order)}
-    failed = times[criterion] is not None or times["containment"] is not None
+    failed = times[limit_state] is not None or times["containment"] is not None
     return {"failed": failed, "numerical_failure": False,
             "failure_mode": "yielding" if times["containment"] else None,
-            "failure_time": times[criterion], "limit_states": times, "cpu_seconds": 0.0}
+            "failure_time": times[limit_state], "limit_states": times, "cpu_seconds": 0.0}
 
 
 def test_searches_per_limit_state_share_their_runs(tmp_path):
@@ -184,7 +184,7 @@ def test_searches_per_limit_state_share_their_runs(tmp_path):
         return next(sa for sa in rungs if sa / crit.record_sa * pga >= STATE_PGA[state])
 
     settings = FESettings(limit_states=("containment", "hinge", "rupture"))
-    assert settings.run_options()["criterion"] == "containment"
+    assert settings.run_options()["limit_state"] == "containment"
     CALLS.clear()
     found = run_fem_searches(targets, settings, ResultStore(tmp_path / "s.sqlite"),
                              step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
@@ -211,7 +211,7 @@ def test_searches_per_limit_state_share_their_runs(tmp_path):
 
 def test_a_study_extended_to_later_limit_states_reuses_its_stored_runs(tmp_path):
     """A hinge study, then the same store asked for hinge, rupture and containment (the runs'
-    criterion becomes containment, a new key): the hinge searches replay from the hinge runs
+    limit state becomes containment, a new key): the hinge searches replay from the hinge runs
     (the same probes, no runner call on their rungs), a hinge run that survived answers the
     later limit states too, and one that hinged does not (it stopped before them). The
     answers are the brute-force threshold rungs, as from a fresh store."""
@@ -245,7 +245,7 @@ def test_a_study_extended_to_later_limit_states_reuses_its_stored_runs(tmp_path)
         assert (f.sa - STEP) * pga < STATE_PGA[f.limit_state]
 
 
-@pytest.mark.parametrize(("criterion", "times", "numerical", "answers"), [
+@pytest.mark.parametrize(("run_state", "times", "numerical", "answers"), [
     ("hinge", {"hinge": None, "rupture": None, "containment": None}, False,
      {"hinge", "rupture", "containment"}),                      # ran to its end
     ("hinge", {"hinge": 3.0, "rupture": None, "containment": None}, False, {"hinge"}),
@@ -257,10 +257,10 @@ def test_a_study_extended_to_later_limit_states_reuses_its_stored_runs(tmp_path)
     ("containment", None, False, {"hinge", "rupture", "containment"}),
     ("hinge", None, False, {"hinge"}),                          # a stand-in without states
 ])
-def test_which_limit_states_a_stored_run_answers(criterion, times, numerical, answers):
+def test_which_limit_states_a_stored_run_answers(run_state, times, numerical, answers):
     result = {"limit_states": times, "numerical_failure": numerical}
     assert {s for s in ("hinge", "rupture", "containment")
-            if decides(result, criterion, s)} == answers
+            if decides(result, run_state, s)} == answers
 
 
 def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):
@@ -292,6 +292,7 @@ def test_validation_with_yielding_rims_starts_each_search_at_its_own_ladder(tmp_
     limit state starts at its rung instead of the rigid rims' one, ending on the same
     threshold rung. The rim law is a stand-in (a linear backbone) so the test needs no FE
     push."""
+    import fem
     import rigid.rims
     from validation.run import Settings, run_validation
 
@@ -300,7 +301,7 @@ def test_validation_with_yielding_rims_starts_each_search_at_its_own_ladder(tmp_
         first_yield_force=1.5e6, hinge_displacement=5e-4, hinge_force=1.8e6, hinge_set=2e-4,
         rupture_displacement=1e-2, rupture_set=9e-3, lever=0.02625,
         push_displacement=np.zeros(2), push_force=np.zeros(2))
-    monkeypatch.setattr(rigid.rims, "rim_law", lambda bearing, **_: law)
+    monkeypatch.setattr(fem, "rim_law", lambda bearing, **_: law)
     _, a = rigid.ricker_record(0.2 * G, 2.5, "antisymmetric", dt=0.01, free=8.0)
     motion = rigid.GroundMotion(name="pulse", dt=0.01, acceleration=a)
     settings = Settings(pressures=(60e6,), criteria=(4,), stop=1.2 * G, rims=("rigid", "yielding"),
@@ -313,7 +314,7 @@ def test_validation_with_yielding_rims_starts_each_search_at_its_own_ladder(tmp_
         (ladder,) = results.yielding[search.limit_state]
         alone = rigid.critical_sa(DFPBearing(pressure=60e6), motion, settings.step,
                                   stop=settings.stop, search="fast", rims="yielding",
-                                  failure_criterion=search.limit_state, cache=False)
+                                  limit_state=search.limit_state, rim_law=law, cache=False)
         assert ladder.sa == alone.sa is not None and search.yielding_sa == ladder.sa
         assert search.probes[0]["sa"] == pytest.approx(ladder.sa)
         oracle = _oracle(motion, SimpleNamespace(record_sa=ladder.record_sa), stop=1.2 * G)

@@ -396,3 +396,17 @@ def test_import_rigid_does_not_import_the_optional_packages():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == ""
+
+
+@pytest.mark.parametrize(("options", "message"), [
+    ({"tolerance": 0.0}, "must be positive"),
+    ({"amplitude_max": -1.0}, "must be positive"),
+    ({"tolerance": 0.05 * G, "scan_step": 0.05 * G}, "scan_step must exceed twice"),
+])
+def test_both_boundary_searches_check_their_arguments(light, options, message):
+    """region_boundaries and design_chart share one search (boundaries_many) and so one check
+    of its arguments (before, design_chart ran with any)."""
+    with pytest.raises(ValueError, match=message):
+        region_boundaries(light, "symmetric", [3.0], cache=False, **options)
+    with pytest.raises(ValueError, match=message):
+        design_chart([light], "symmetric", [1.5], cache=False, **options)

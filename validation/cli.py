@@ -8,6 +8,9 @@ a damaged store that cannot be rebuilt, out of memory, an output folder in use);
 (arguments, record files, manifests); 3 an internal error (a bug: please report it; ``--debug``
 shows the traceback); 130 interrupted (Ctrl-C); 143 terminated (SIGTERM). An interrupted or
 terminated run stops its worker processes and keeps every result stored so far.
+
+This module parses the arguments and turns errors into that one line (:func:`main`); the
+commands themselves are in :mod:`validation.commands`.
 """
 
 from __future__ import annotations
@@ -17,11 +20,9 @@ import math
 import signal
 import sys
 import warnings
-from pathlib import Path
 
-from rigid.limit_states import LIMIT_STATES
+from rigid.limit_states import LIMIT_STATES, RIM_MODELS
 from rigid.limits import (
-    MAX_RECORD_ACCELERATION,
     MAX_SA_STOP,
     PRESSURE_RANGE,
     RECORD_DT_RANGE,
@@ -31,27 +32,25 @@ from rigid.limits import (
 from rigid.motions import FEMA_P695_SETS, KINDS, WEIGHTINGS
 from rigid.units import G
 
-#: Records of the quick run: the first components of the first FEMA P695 records of the set.
-QUICK_RECORDS = 4
-#: FE critical SA in the quick run: this many records (the shortest), at the first pressure.
-QUICK_FEM_RECORDS = 1
-#: FE time step [s] while sliding freely: the quick run's, and the full run's (fem.simulate's
-#: default).
-QUICK_FEM_STEP, FULL_FEM_STEP = 0.01, 0.005
+from .commands import (  # the commands, and what their help texts quote
+    FULL_FEM_STEP,
+    QUICK_FEM_RECORDS,
+    QUICK_FEM_STEP,
+    QUICK_RECORDS,
+    CommandError,
+    NoAnswerError,
+    critical,
+    pulses,
+    simulate,
+    validate,
+)
+
 #: Most local worker processes (more only thrash a machine).
 MAX_WORKERS = 256
 #: Longest error message printed [characters].
 MAX_MESSAGE = 400
 
 EXIT_FAILED, EXIT_USAGE, EXIT_BUG, EXIT_INTERRUPTED, EXIT_TERMINATED = 1, 2, 3, 130, 143
-
-
-class CommandError(Exception):
-    """A user-facing error: printed as one line, exit status 2."""
-
-
-class NoAnswerError(Exception):
-    """The computation ran but gives no trustworthy answer: printed as one line, exit 1."""
 
 
 class Terminated(KeyboardInterrupt):
@@ -98,229 +97,6 @@ def _positive(kind):
     return _number(kind, 0, None, low_open=True)
 
 
-def _output_folder(path: str) -> Path:
-    folder = Path(path)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / ".write-test"
-        probe.write_text("")
-        probe.unlink()
-    except OSError as exc:
-        raise CommandError(f"cannot write to output folder {folder}: {exc.strerror}") from None
-    return folder
-
-
-def _locked_output_folder(args) -> Path:
-    """The output folder, created, writable and locked for this run (released at exit)."""
-    from rigid.tasks import FolderLock
-
-    folder = _output_folder(args.out)
-    args._lock = FolderLock(folder).acquire()
-    return folder
-
-
-def _bearing(args):
-    import dataclasses
-
-    from rigid import DFPBearing
-
-    return dataclasses.replace(DFPBearing(), pressure=args.pressure * 1e6)
-
-
-def _record(args):
-    from rigid import read_record
-
-    if not Path(args.record).exists():
-        raise CommandError(f"record file {args.record} does not exist")
-    return read_record(args.record, dt=args.dt, units=args.units)
-
-
-def _no_answer(kind: str, error) -> NoAnswerError:
-    return NoAnswerError(f"numerical instability, not a physical failure: {error} ({kind})")
-
-
-def simulate(args) -> int:
-    """Run the rigid model on a Ricker pulse or a record; print impacts and failure; plot."""
-    from rigid import NumericalInstabilityError, ricker_record
-    from rigid import simulate as run
-    from rigid.plots import plot_response
-
-    out = _locked_output_folder(args)
-    bearing = _bearing(args)
-    if args.record:  # read and checked before anything is printed
-        motion = _record(args)
-        if motion.pga * args.scale > MAX_RECORD_ACCELERATION:
-            raise CommandError(f"--scale {args.scale:g} takes the peak acceleration of "
-                               f"{motion.name} to {motion.pga * args.scale / G:.3g} g, beyond "
-                               f"the {MAX_RECORD_ACCELERATION / G:g} g of any recorded ground "
-                               "motion (docs/limits.md)")
-        dt, acceleration = motion.dt, args.scale * motion.acceleration
-        title = f"{args.pressure:g} MPa, {motion.name} × {args.scale:g}"
-    else:
-        dt = 0.005
-        _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
-        title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
-                 f"Tp = {args.period:g} s")
-    print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
-          f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
-          f" period {bearing.period:.2f} s)")
-    print(title)
-    try:
-        result = run(bearing, acceleration, dt, **_rim_options(args))
-    except NumericalInstabilityError as exc:
-        raise _no_answer("the rigid model's integration stayed unstable; the run gives no "
-                         "verdict", exc) from None
-    print(result.summary())
-    path = plot_response(result, out / "response.png", title=title)
-    print(f"plot: {path}")
-    return 0
-
-
-def pulses(args) -> int:
-    """Extract the best Ricker pulse of a record by each criterion of paper §4.1; plot."""
-    from rigid import best_pulse
-    from rigid.motions.plots import plot_record_pulses
-
-    out = _locked_output_folder(args)
-    motion = _record(args)
-    found = []
-    print(f"{motion.name}: dt = {motion.dt:g} s, {motion.acceleration.size} samples")
-    print("criterion  kind           Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
-    for criterion in (1, 2, 3, 4):
-        p = best_pulse(motion, criterion=criterion, weighting=args.weighting)
-        found.append(p)
-        print(f"{criterion:9d}  {p.kind:13s} {p.period:7.3f} {p.amplitude / G:8.3f} "
-              f"{p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
-    path = plot_record_pulses(motion, found, out / "pulses.png", title=motion.name)
-    print(f"plot: {path}")
-    return 0
-
-
-def _index(value) -> str:
-    """A match index for the pulse table: 3 decimals, or a dash when undefined."""
-    return f"{value:7.3f}" if math.isfinite(value) else f"{'—':>7s}"
-
-
-def critical(args) -> int:
-    """Critical SA(4.5 s) of a record by the 0.01 g ladder, and its pulse prediction.
-
-    Exit status 1 (after the two lines) when either answer depends on rungs whose
-    integration stayed unstable (numerical: neither failures nor survivals)."""
-    from rigid import critical_sa, predict_critical_sa
-
-    bearing = _bearing(args)
-    motion = _record(args)
-    rims = _rim_options(args)
-    actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
-                         after_failure=args.after_failure, **rims)
-    print(actual.summary())
-    predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
-                                    stop=args.stop * G, search=args.search, **rims)
-    print(predicted.summary())
-    uncertain = [what for what, r in (("critical SA", actual), ("prediction", predicted))
-                 if r.uncertain]
-    if uncertain:
-        n = len(actual.numerical_failures) + len(predicted.numerical_failures)
-        raise NoAnswerError(f"the {' and the '.join(uncertain)} depend on {n} numerical "
-                            "rung(s) (integration unstable, outcome unknown): no verdict")
-    return 0
-
-
-def _motions(args):
-    from rigid import fema_p695, read_manifest
-
-    if args.manifest:
-        motions = read_manifest(args.manifest)
-        label = f"manifest {args.manifest}"
-    else:
-        if args.set not in FEMA_P695_SETS:
-            raise CommandError(f"unknown record set {args.set!r}; choose from "
-                               f"{', '.join(FEMA_P695_SETS)}")
-        motions = fema_p695(args.set)
-        label = f"FEMA P695 {args.set}"
-    if args.quick and args.records is None:
-        motions = motions[: 2 * QUICK_RECORDS : 2]  # first component of the first records
-    elif args.records is not None:
-        motions = motions[: args.records]
-    if not motions:
-        raise CommandError("the record set is empty")
-    return motions, label
-
-
-def validate(args) -> int:
-    """Critical SA by time history and its pulse-based prediction over a record set; report."""
-    import time
-
-    from validation.fem_search import FESettings
-    from validation.report import write_report
-    from validation.run import Settings, run_validation
-
-    out = _locked_output_folder(args)
-    motions, label = _motions(args)
-    criteria = args.criteria or ((3, 4) if args.quick else (1, 2, 3, 4))
-    fem_pressures = args.fem_pressure or (args.pressure[:1] if args.quick else args.pressure)
-    unknown = [p for p in fem_pressures if p not in args.pressure]
-    if args.fem and unknown:
-        raise CommandError(f"--fem-pressure {unknown[0]:g} is not one of --pressure "
-                           f"{' '.join(f'{p:g}' for p in args.pressure)}")
-    fem = None
-    if args.fem:
-        step = args.fem_step or (QUICK_FEM_STEP if args.quick else FULL_FEM_STEP)
-        fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
-                         kinematics=args.fem_kinematics,
-                         limit_states=tuple(dict.fromkeys(args.limit_state)))
-    settings = Settings(
-        pressures=tuple(p * 1e6 for p in args.pressure), criteria=tuple(criteria),
-        stop=args.stop * G, search=args.search, fem=fem,
-        fem_pressures=tuple(p * 1e6 for p in fem_pressures),
-        fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
-        rims=tuple(dict.fromkeys(["rigid", *args.rims])),
-        yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
-        bearing=tuple((field, getattr(args, field) / 1e3) for field in ("rim_thickness",
-                      "rim_height") if getattr(args, field) is not None),
-    )
-    for pressure in settings.pressures:  # a variant that is no bearing fails here, in one line
-        try:
-            settings.bearing_at(pressure)
-        except ValueError as exc:
-            raise CommandError(str(exc)) from None
-    print(f"validation: {len(motions)} records ({label}), pressures "
-          f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
-    start = time.perf_counter()
-    progress = None if args.progress else False
-    results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
-                                          workers=args.workers, progress=progress)
-    for pressure, res in results.items():
-        failed = sum(a.sa is not None for a in res.actual)
-        numerical = [a for a in res.actual if a.numerical_failures]
-        uncertain = [a.name for a in res.actual if a.uncertain]
-        line = (f"  {pressure / 1e6:g} MPa: {failed}/{len(res.actual)} records fail below "
-                f"{settings.stop / G:g} g")
-        if numerical:
-            line += (f"; {len(numerical)} with numerical rungs (neither failures nor "
-                     f"survivals), {len(uncertain)} of them uncertain")
-        print(line)
-        if uncertain:
-            warnings.warn(f"at {pressure / 1e6:g} MPa the critical SA of "
-                          f"{len(uncertain)} record(s) depends on numerical rungs: "
-                          f"{', '.join(uncertain[:5])}{' …' if len(uncertain) > 5 else ''} "
-                          "(flagged in the report)", stacklevel=1)
-    for pressure, found in fem_results.items():
-        for r in found:
-            sa = ("no failure" if r.sa is None else
-                  f"{r.sa / G:.2f} g ({r.failure_mode or 'the run there ended numerically'})")
-            rigid_sa = "none" if r.rigid_sa is None else f"{r.rigid_sa / G:.2f} g"
-            flag = f", {r.numerical_runs} numerical" if r.numerical_runs else ""
-            flag += ", UNCERTAIN" if r.uncertain else ""
-            print(f"  FE {pressure / 1e6:g} MPa {r.name} ({r.limit_state}): critical SA {sa}; "
-                  f"rigid {rigid_sa}; {r.runs} FE runs{flag}")
-    path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
-                        title="DFP bearing failure: validation run", record_set=label,
-                        fem=fem_results)
-    print(f"report: {path}")
-    return 0
-
-
 _PRESSURE = _number(float, PRESSURE_RANGE[0] / 1e6, PRESSURE_RANGE[1] / 1e6, " MPa",
                     "what sliding bearings are designed for")
 _RIM_SIZE = _number(float, 5, 200, " mm", "rims of sliding bearings are a few centimetres")
@@ -334,20 +110,12 @@ def _bearing_args(p):
 
 
 def _rim_args(p):
-    p.add_argument("--rims", choices=("rigid", "yielding"), default="rigid",
+    p.add_argument("--rims", choices=RIM_MODELS, default="rigid",
                    help="rim model: rigid (the paper's, default) or yielding (elastoplastic "
                    "rims derived from the FE companion's rim push)")
     p.add_argument("--limit-state", choices=LIMIT_STATES,
                    help="what counts as failure with yielding rims: a rim's hinge (default), "
                    "its rupture, or the loss of containment (rigid rims: containment only)")
-
-
-def _rim_options(args) -> dict:
-    """The rim model and failure criterion of :func:`rigid.simulate` from the arguments."""
-    if args.rims == "rigid" and args.limit_state not in (None, "containment"):
-        raise CommandError(f"--limit-state {args.limit_state} needs --rims yielding (rigid "
-                           "rims cannot yield)")
-    return {"rims": args.rims, "failure_criterion": args.limit_state}
 
 
 def _record_args(p, required):
@@ -373,6 +141,9 @@ def _debug_arg(p, default):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``dfp`` command's parser: one subcommand each (simulate and its alias demo,
+    pulses, critical-sa, validate), each calling its command (:mod:`validation.commands`,
+    looked up here at call time)."""
     parser = _Parser(
         prog="dfp",
         description="Failure of double friction pendulum bearings under pulse-like motions "
@@ -380,6 +151,17 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _debug_arg(parser, False)
     sub = parser.add_subparsers(dest="command", required=True)
+    _simulate_parsers(sub)
+    _pulses_parser(sub)
+    _critical_parser(sub)
+    _validate_parser(sub)
+    for p in sub.choices.values():  # --debug after the command too
+        _debug_arg(p, argparse.SUPPRESS)
+    return parser
+
+
+def _simulate_parsers(sub):
+    """``simulate`` and its alias ``demo``: a Ricker pulse or a record, one rigid run."""
     for name, helptext in (("simulate", "the rigid model on a Ricker pulse or a record"),
                            ("demo", "the same as simulate (the first example of the README)")):
         p = sub.add_parser(name, help=helptext, description=simulate.__doc__)
@@ -402,6 +184,9 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--out", default="dfp-simulate", help="output folder")
         p.set_defaults(func=simulate)
 
+
+def _pulses_parser(sub):
+    """``pulses``: the best Ricker pulses of a record."""
     p = sub.add_parser("pulses", help="best Ricker pulses of a record (criteria 1-4)",
                        description=pulses.__doc__)
     _record_args(p, required=True)
@@ -410,6 +195,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="dfp-pulses", help="output folder")
     p.set_defaults(func=pulses)
 
+
+def _critical_parser(sub):
+    """``critical-sa``: the ladder and its prediction for one record."""
     p = sub.add_parser("critical-sa", help="critical SA(4.5 s) of a record and its prediction",
                        description=critical.__doc__)
     _bearing_args(p)
@@ -424,6 +212,9 @@ def build_parser() -> argparse.ArgumentParser:
     _rim_args(p)
     p.set_defaults(func=critical)
 
+
+def _validate_parser(sub):
+    """``validate``: a record set, both models, the report."""
     p = sub.add_parser("validate", help="critical SA and its prediction over a record set",
                        description=validate.__doc__)
     source = p.add_mutually_exclusive_group()
@@ -463,7 +254,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--limit-state", nargs="+", choices=LIMIT_STATES, default=["hinge"],
                    help="FE limit states searched, each its own FE critical SA sharing the "
                    "same runs (default hinge; docs/theory/finite-elements.md, 'Limit states')")
-    p.add_argument("--rims", nargs="+", choices=("rigid", "yielding"),
+    p.add_argument("--rims", nargs="+", choices=RIM_MODELS,
                    default=["rigid", "yielding"],
                    help="rim models of the rigid model's ladders (default both; rigid rims, "
                    "the paper's model, always run); with yielding rims one ladder per limit "
@@ -481,9 +272,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bars")
     p.set_defaults(func=validate)
-    for p in sub.choices.values():  # --debug after the command too
-        _debug_arg(p, argparse.SUPPRESS)
-    return parser
 
 
 def _describe(exc: BaseException) -> tuple[str, int]:

@@ -10,9 +10,9 @@ import time
 import numpy as np
 
 from fem.geometry import COARSE_MESH
-from fem.limit_states import LIMIT_STATES
 from rigid import DFPBearing, G
 from rigid.collapse.trimming import QUIET_FRACTION, quiet_after, trimmed_window
+from rigid.limit_states import LIMIT_STATES, renamed_limit_state
 from rigid.model import reach_energy
 from rigid.model import simulate as rigid_simulate
 
@@ -50,10 +50,11 @@ def _duration_guess(bearing, a, dt, window, total, margin) -> float:
     return min(total, max(guess, t_end + margin))
 
 
+@renamed_limit_state("criterion")
 def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str = "coarse",
             max_step: float = 5e-3, impact_step: float = 5e-4, trim: str = "end",
             free: float = 20.0, lead: float = 0.1, margin: float = 1.0,
-            kinematics: str = "finite", criterion: str = "hinge", simulate=None) -> dict:
+            kinematics: str = "finite", limit_state: str = "hinge", simulate=None) -> dict:
     """One FE run of a scaled record, trimmed (module docstring); runs in a worker.
 
     Parameters
@@ -75,9 +76,9 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         Longest time simulated after the record.
     kinematics : {"finite", "small"}
         :func:`fem.simulate`'s kinematics.
-    criterion : {"hinge", "rupture", "containment"}
-        The limit state that ends the run (:func:`fem.simulate`'s ``failure_criterion``); the
-        earlier ones are recorded on the way (``limit_states``).
+    limit_state : {"hinge", "rupture", "containment"}
+        The limit state that ends the run (:func:`fem.simulate`'s); the earlier ones are
+        recorded on the way (``limit_states``). ``criterion``: its deprecated name.
     lead, margin : float [s]
         Start this long before the first strong sample; simulate this long beyond the guessed
         quiet time.
@@ -89,7 +90,7 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     dict
         ``failed``, ``failure_mode``, ``failure_time`` [s from the record's start],
         ``numerical_failure``, ``detail``, ``limit_states`` (name → time [s from the record's
-        start] or None, as far as the run went), ``kinematics``, ``criterion``, ``start``,
+        start] or None, as far as the run went), ``kinematics``, ``limit_state``, ``start``,
         ``strong_end``, ``end`` [s] (what was simulated), ``energy_end``, ``reach_energy``
         [J], ``quiet`` (energy below the bound at the end: the verdict is final), ``runs``
         (1, or 2 when the guessed end was not quiet), ``steps``, ``newton_iterations``,
@@ -110,7 +111,7 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     out = {"failed": False, "failure_mode": None, "failure_time": None,
            "numerical_failure": False, "detail": None,
            "limit_states": dict.fromkeys(LIMIT_STATES), "kinematics": kinematics,
-           "criterion": criterion, "start": None, "strong_end": None,
+           "limit_state": limit_state, "start": None, "strong_end": None,
            "end": None, "energy_end": 0.0, "reach_energy": reach, "quiet": True, "runs": 0,
            "steps": 0, "newton_iterations": 0, "dofs": 0, "max_plastic_strain": 0.0,
            "max_rim_force": 0.0}
@@ -124,7 +125,7 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     for duration in dict.fromkeys(durations):  # the guess, then (if needed) the whole rest
         res = simulate(b, a[window.start:], dt, duration=duration,
                        mesh_options=MESHES[mesh], max_step=max_step, impact_step=impact_step,
-                       kinematics=kinematics, failure_criterion=criterion)
+                       kinematics=kinematics, limit_state=limit_state)
         energy = fem_mechanical_energy(res)
         out.update(
             failed=bool(res.failed), failure_mode=res.failure_mode,

@@ -11,14 +11,14 @@ import math
 from dataclasses import dataclass, field
 
 from fem.dfp import KINEMATICS
-from fem.limit_states import LIMIT_STATES
 from rigid import DFPBearing
+from rigid.limit_states import LIMIT_STATES, check_limit_states
 from rigid.tasks import ResultStore, Task, run_tasks, task_key
 
 from .fem_runs import MESHES, fem_run
 
 __all__ = ["BracketBisect", "FECritical", "FESearches", "FESettings", "decides",
-           "failed_under", "run_criterion", "run_fem_searches"]
+           "failed_under", "run_criterion", "run_fem_searches", "run_limit_state"]
 
 
 class BracketBisect:
@@ -93,7 +93,7 @@ class BracketBisect:
 class FESettings:
     """How the FE critical SA is searched. Keyed into every stored FE run (with the bearing,
     the record and the scale), except ``limit_states``: the runs stop at the last of them
-    (:func:`run_criterion`), so the searches of all of them share their runs."""
+    (:func:`run_limit_state`), so the searches of all of them share their runs."""
 
     mesh: str = "coarse"
     max_step: float = 5e-3
@@ -106,10 +106,7 @@ class FESettings:
     limit_states: tuple = ("hinge",)
 
     def __post_init__(self):
-        unknown = [s for s in self.limit_states if s not in LIMIT_STATES]
-        if unknown or not self.limit_states:
-            raise ValueError(f"limit_states must be some of {', '.join(LIMIT_STATES)}, got "
-                             f"{self.limit_states!r}")
+        object.__setattr__(self, "limit_states", check_limit_states(self.limit_states))
         if self.kinematics not in KINEMATICS:
             raise ValueError(f"kinematics must be one of {', '.join(KINEMATICS)}, got "
                              f"{self.kinematics!r}")
@@ -118,7 +115,7 @@ class FESettings:
         """Keyword arguments of :func:`fem_run` (what keys a stored run)."""
         options = dataclasses.asdict(self)
         del options["limit_states"]
-        return {**options, "criterion": run_criterion(self.limit_states)}
+        return {**options, "limit_state": run_limit_state(self.limit_states)}
 
     def describe(self) -> dict:
         return {"FE mesh": f"{self.mesh} ({MESHES[self.mesh] or 'generator defaults'})",
@@ -131,11 +128,20 @@ class FESettings:
                 "FE limit states": ", ".join(self.limit_states)}
 
 
-def run_criterion(limit_states) -> str:
+def run_limit_state(limit_states) -> str:
     """The limit state an FE run must go on to so that it decides all of ``limit_states``:
-    the last of them in :data:`fem.limit_states.LIMIT_STATES` order (a run that stops at
+    the last of them in :data:`rigid.limit_states.LIMIT_STATES` order (a run that stops at
     containment has recorded the hinge and the rupture before it)."""
-    return max(limit_states, key=LIMIT_STATES.index)
+    return max(check_limit_states(limit_states), key=LIMIT_STATES.index)
+
+
+def run_criterion(limit_states) -> str:
+    """Deprecated alias of :func:`run_limit_state`."""
+    import warnings
+
+    warnings.warn("run_criterion is deprecated, use run_limit_state", DeprecationWarning,
+                  stacklevel=2)
+    return run_limit_state(limit_states)
 
 
 def failed_under(result: dict, limit_state: str) -> bool | None:
@@ -151,19 +157,19 @@ def failed_under(result: dict, limit_state: str) -> bool | None:
     return times.get(limit_state) is not None or times.get("containment") is not None
 
 
-def decides(result: dict, criterion: str, limit_state: str) -> bool:
-    """Whether a stored FE run that stopped at ``criterion`` answers ``limit_state``: a run
-    records every limit state it reaches, so it answers the limit states up to its criterion
-    (:data:`fem.limit_states.LIMIT_STATES` order: the hinge, then the rupture, then the loss
-    of containment), any it reached, and all of them when it ran to its end without reaching
-    its criterion. A numerical failure answers only up to the criterion. Runs without
-    ``limit_states`` (stand-in runners) answer only their own criterion."""
+def decides(result: dict, run_state: str, limit_state: str) -> bool:
+    """Whether a stored FE run made to the limit state ``run_state`` (it stops there) answers
+    ``limit_state``: a run records every limit state it reaches, so it answers the limit
+    states up to its own (:data:`rigid.limit_states.LIMIT_STATES` order: the hinge, then the
+    rupture, then the loss of containment), any it reached, and all of them when it ran to its
+    end without reaching its own. A numerical failure answers only up to its own. Runs
+    without ``limit_states`` (stand-in runners) answer only their own limit state."""
     times = result.get("limit_states")
-    if LIMIT_STATES.index(limit_state) <= LIMIT_STATES.index(criterion):
+    if LIMIT_STATES.index(limit_state) <= LIMIT_STATES.index(run_state):
         return True
     if times is None or result.get("numerical_failure"):
         return False
-    stopped = times.get(criterion) is not None or times.get("containment") is not None
+    stopped = times.get(run_state) is not None or times.get("containment") is not None
     return times.get(limit_state) is not None or not stopped
 
 
@@ -288,29 +294,29 @@ class FESearches:
         self.waiting: dict = {}    # task key → searches waiting for its result
         self.outcomes: dict = {}   # task key → result
 
-    def run_key(self, i: int, j: int, criterion: str | None = None) -> tuple[str, dict]:
+    def run_key(self, i: int, j: int, limit_state: str | None = None) -> tuple[str, dict]:
         """Task key and keyword arguments of the FE run of target ``i`` at rung ``j``
-        (``criterion``: a stored run made to another limit state, see :func:`decides`)."""
+        (``limit_state``: a stored run made to another limit state, see :func:`decides`)."""
         bearing, motion, rigid_crit = self.targets[i]
         scale = (self.start + j * self.step) / rigid_crit.record_sa
         kwargs = {"bearing": dataclasses.asdict(bearing), "acceleration": motion.acceleration,
                   "dt": motion.dt, "scale": scale, **self.options}
-        if criterion is not None:
-            kwargs["criterion"] = criterion
+        if limit_state is not None:
+            kwargs["limit_state"] = limit_state
         key = task_key(self.kind, self.models, runner=self.runner_name, **kwargs)
         return key, kwargs
 
     def _reusable(self, k, i, j) -> str | None:
-        """Key of a stored run of rung j to another criterion that answers search k, or
+        """Key of a stored run of rung j to another limit state that answers search k, or
         None. It joins the outcomes (it is never run, so never a duplicate)."""
         if self.stored is None:
             return None
-        for criterion in LIMIT_STATES:
-            if criterion == self.options["criterion"]:
+        for state in LIMIT_STATES:
+            if state == self.options["limit_state"]:
                 continue
-            key, _ = self.run_key(i, j, criterion)
+            key, _ = self.run_key(i, j, state)
             result = self.outcomes.get(key) or self.stored(key)
-            if result is not None and decides(result, criterion, self.found[k].limit_state):
+            if result is not None and decides(result, state, self.found[k].limit_state):
                 self.outcomes[key] = result
                 return key
         return None

@@ -105,9 +105,11 @@ class Settings:
 
 
 def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, step: float,
-                stop: float, search: str, cache: str | None, yielding_states=()) -> dict:
+                stop: float, search: str, cache: str | None, yielding_states=(),
+                rim_law=None) -> dict:
     """Actual and predicted critical SA of one record, and the critical SA with yielding rims
-    under each of ``yielding_states`` (runs in a worker).
+    under each of ``yielding_states`` (runs in a worker) with the rims' law ``rim_law``
+    (:class:`rigid.rims.RimLaw`, from :func:`fem.rim_law`).
 
     Parameters are plain data (the bearing as ``dataclasses.asdict``; the record's samples
     [m/s²] and dt [s]) so that the task pickles cheaply and hashes exactly.
@@ -123,7 +125,7 @@ def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, ste
     }
     yielding = {state: dataclasses.asdict(critical_sa(
         b, motion, step, stop=stop, search=search, cache=cache, rims="yielding",
-        failure_criterion=state)) for state in yielding_states}
+        limit_state=state, rim_law=rim_law)) for state in yielding_states}
     return {"actual": dataclasses.asdict(actual),
             "predictions": {c: dataclasses.asdict(p) for c, p in predictions.items()},
             "yielding": yielding}
@@ -133,6 +135,9 @@ def critical_from_json(d):
     """A :class:`rigid.collapse.ladder.CriticalSA` from its stored JSON form."""
     from rigid.collapse.ladder import CriticalSA, Rung
 
+    d = dict(d)
+    if "failure_criterion" in d:  # stored before the rename to limit_state
+        d["limit_state"] = d.pop("failure_criterion")
     return CriticalSA(**{**d, "rungs": tuple(Rung(**r) for r in d["rungs"])})
 
 
@@ -166,7 +171,10 @@ def rigid_tasks(motions, settings: Settings, out: Path):
                       "acceleration": m.acceleration, "criteria": list(settings.criteria),
                       "step": settings.step, "stop": settings.stop, "search": settings.search}
             if settings.ladder_states():
+                from fem import rim_law
+
                 kwargs["yielding_states"] = list(settings.ladder_states())
+                kwargs["rim_law"] = rim_law(settings.bearing_at(pressure))  # cached
             models = ("rigid", "rim-law", "motions", "collapse") if settings.ladder_states() \
                 else ("rigid", "motions", "collapse")
             key = task_key("rigid-record", models, **kwargs)

@@ -11,8 +11,9 @@ from .fragility import (
     fit_lognormal,
     set_collapse_intensity,
 )
-from .ladder import CriticalSA, Rung, critical_sa, critical_sas
+from .ladder import CriticalSA, Rung, critical_sa
 from .predict import PredictedSA, PredictionRung, predict_critical_sa, pulse_region
+from .record_set import critical_sas
 from .trimming import critical_sa_trimmed, trimmed_outcome, trimmed_window
 
 __all__ = [

@@ -1,6 +1,7 @@
 """Critical SA(Tb) of a record by time history: the 0.01 g scaling ladder of the rigid model
-(paper §4.2), with every rung kept (resurrections), an optional coarse-then-fine search, record
-sets in parallel, and a resumable cache of rungs in ``ladders.sqlite`` under the library's one
+(paper §4.2), with every rung kept (resurrections), an optional coarse-then-fine search
+(:mod:`rigid.collapse.search`), record sets in parallel (:mod:`rigid.collapse.record_set`),
+and a resumable cache of rungs in ``ladders.sqlite`` under the library's one
 key (docs/theory/collapse.md, Eqs. C1–C4; its "Trimming" section says why records are not
 trimmed here).
 """
@@ -8,7 +9,6 @@ trimmed here).
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,12 +16,24 @@ from pathlib import Path
 import numpy as np
 
 from ..bearing import DFPBearing
+from ..limit_states import check_limit_state, deprecated_attribute, renamed_limit_state
 from ..motions.spectra import pseudo_acceleration
 from ..tasks import ResultStore, cache_root, task_key
 from ..units import G
+from .search import coarse_scan, fast_search
 
 __all__ = ["CriticalSA", "Rung", "as_record", "check_ladder", "coarse_scan", "critical_sa",
-           "critical_sas", "fast_search", "record_ladder"]
+           "fast_search", "record_ladder"]
+
+
+def __getattr__(name):
+    # record sets (critical_sas) live in .record_set, which imports this module: re-exported
+    # lazily so that ``from rigid.collapse.ladder import critical_sas`` keeps working
+    if name in ("critical_sas", "pool_context"):
+        from . import record_set
+
+        return getattr(record_set, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 _SEARCHES = ("full", "fast")
 
@@ -90,8 +102,9 @@ class CriticalSA:
     capped : bool
         The ladder stops below the ``stop`` asked for: higher rungs would scale the record's
         peak acceleration beyond :data:`rigid.limits.MAX_MODEL_ACCELERATION`.
-    rims, failure_criterion : str
-        The rim model and the limit state that defined failure (:func:`rigid.simulate`).
+    rims, limit_state : str
+        The rim model and the limit state that defined failure (:func:`rigid.simulate`;
+        ``failure_criterion``: the deprecated name of ``limit_state``).
     """
 
     sa: float | None
@@ -107,7 +120,9 @@ class CriticalSA:
     cpu_seconds: float = 0.0
     capped: bool = False
     rims: str = "rigid"
-    failure_criterion: str = "containment"
+    limit_state: str = "containment"
+
+    failure_criterion = deprecated_attribute("failure_criterion")
 
     @property
     def failed(self) -> bool:
@@ -173,7 +188,7 @@ class CriticalSA:
             extra += (f"; ladder ends at {self.stop / G:.2f} g (higher rungs would scale the "
                       f"record beyond the models' {MAX_MODEL_ACCELERATION / G:g} g)")
         rims = ("" if self.rims == "rigid"
-                else f", {self.rims} rims, failure = {self.failure_criterion}")
+                else f", {self.rims} rims, failure = {self.limit_state}")
         return f"{self.name}: {crit} ({len(self.rungs)} rungs, {self.search}{rims}){extra}"
 
 
@@ -272,6 +287,51 @@ def _run_rung(bearing, acc, dt, scale, sim) -> dict:
     }
 
 
+def _rung_options(bearing, rims, limit_state, rim_law, *, max_step, impact_merge_time,
+                  coarse_factor, free) -> dict:
+    """What every rung of a ladder runs with: :func:`rigid.simulate`'s options (and ``free``
+    [s] after the record), part of the rungs' key; with yielding rims the law itself
+    (:func:`rigid.rims.resolve_rim_law`)."""
+    sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
+           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free),
+           "rims": rims, "limit_state": limit_state}
+    if rims == "yielding":
+        from ..rims import resolve_rim_law
+
+        sim["rim_law"] = resolve_rim_law(bearing, rim_law, stacklevel=4)
+    if sim["max_step"] is None:
+        from ..model import DEFAULT_MAX_STEP
+
+        sim["max_step"] = DEFAULT_MAX_STEP
+    return sim
+
+
+class _Rungs:
+    """The rungs of one ladder, each run once (or read from the store) when first asked for:
+    ``rungs(j)`` is rung j, a :class:`Rung`; ``done`` maps the rungs so far;
+    ``cpu_seconds`` [s] is the processor time spent simulating them here."""
+
+    def __init__(self, bearing, acc, dt, start, step, record_sa, sim, store):
+        self.bearing, self.acc, self.dt, self.sim, self.store = bearing, acc, dt, sim, store
+        self.start, self.step, self.record_sa = start, step, record_sa
+        self.done: dict[int, Rung] = {}
+        self.cpu_seconds = 0.0
+
+    def __call__(self, j: int) -> Rung:
+        if j not in self.done:
+            sa = self.start + j * self.step
+            scale = sa / self.record_sa  # Eq. C2
+            out = self.store.get(j)
+            if out is None:
+                t0 = time.process_time()
+                out = _run_rung(self.bearing, self.acc, self.dt, scale, self.sim)
+                self.cpu_seconds += time.process_time() - t0
+                self.store.put(j, out)
+            self.done[j] = Rung(index=j, sa=sa, scale=scale, **out)
+        return self.done[j]
+
+
+@renamed_limit_state()
 def critical_sa(
     bearing: DFPBearing,
     motion,
@@ -292,7 +352,8 @@ def critical_sa(
     impact_merge_time: float = 0.05,
     coarse_factor: int | None = None,
     rims: str = "rigid",
-    failure_criterion: str | None = None,
+    limit_state: str | None = None,
+    rim_law=None,
 ) -> CriticalSA:
     """Critical SA(Tb) of a record: the first failing rung of a scaling ladder (paper §4.2;
     Eqs. C1–C3).
@@ -340,9 +401,13 @@ def critical_sa(
     max_step, impact_merge_time, coarse_factor
         Passed to :func:`rigid.simulate` (which runs with ``stop_when_quiet=True``,
         ``stop_at_failure=True`` and ``on_instability="refine"``, for the record plus ``free``).
-    rims, failure_criterion : str
+    rims, limit_state : str
         The rim model and the limit state that defines failure (:func:`rigid.simulate`;
-        default the rim model's: "containment" for rigid rims, "hinge" for yielding ones).
+        default the rim model's: "containment" for rigid rims, "hinge" for yielding ones;
+        ``failure_criterion``: the deprecated name of ``limit_state``).
+    rim_law : rigid.rims.RimLaw
+        The yielding rims' law (``fem.rim_law(bearing)``), needed with ``rims="yielding"``
+        (:func:`rigid.simulate`); part of the rungs' key.
 
     Returns
     -------
@@ -361,36 +426,15 @@ def critical_sa(
 
     if not (math.isfinite(free) and free >= 0):
         raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
-    from ..model import _check_rims
-
-    criterion = _check_rims(rims, failure_criterion)
-    sim = {"max_step": max_step, "impact_merge_time": float(impact_merge_time),
-           "coarse_factor": coarse_factor, "on_instability": "refine", "free": float(free),
-           "rims": rims, "failure_criterion": criterion}
-    if sim["max_step"] is None:
-        from ..model import DEFAULT_MAX_STEP
-
-        sim["max_step"] = DEFAULT_MAX_STEP
+    sim = _rung_options(bearing, rims, check_limit_state(limit_state, rims=rims), rim_law,
+                        max_step=max_step, impact_merge_time=impact_merge_time,
+                        coarse_factor=coarse_factor, free=free)
     cache_dir = cache_root() if cache is True else (None if cache is False else cache)
     store = _Store(cache_dir, {"bearing": bearing, "acceleration": acc, "dt": dt,
                                "start": start, "step": float(step), "period": period,
                                "damping": float(damping), "simulate": sim})
-
-    done: dict[int, Rung] = {}
-    cpu = [0.0]
-
-    def rung(j: int) -> Rung:
-        if j not in done:
-            sa = start + j * step
-            scale = sa / record_sa  # Eq. C2
-            out = store.get(j)
-            if out is None:
-                t0 = time.process_time()
-                out = _run_rung(bearing, acc, dt, scale, sim)
-                cpu[0] += time.process_time() - t0
-                store.put(j, out)
-            done[j] = Rung(index=j, sa=sa, scale=scale, **out)
-        return done[j]
+    rung = _Rungs(bearing, acc, dt, start, step, record_sa, sim, store)
+    done = rung.done
 
     first = None
     if search == "full":
@@ -405,6 +449,7 @@ def critical_sa(
             rung(j)
 
     rungs = tuple(done[j] for j in sorted(done))
+    limit_state = sim["limit_state"]
     return CriticalSA(
         sa=None if first is None else done[first].sa,
         scale=None if first is None else done[first].scale,
@@ -416,118 +461,8 @@ def critical_sa(
         stop=float(start + (n_rungs - 1) * step),
         search=search,
         rungs=rungs,
-        cpu_seconds=cpu[0],
+        cpu_seconds=rung.cpu_seconds,
         capped=capped,
         rims=rims,
-        failure_criterion=criterion,
+        limit_state=limit_state,
     )
-
-
-def coarse_scan(hit, n_rungs: int, coarse: int) -> tuple[list, int | None]:
-    """Every ``coarse``-th rung (and the last) up to the first j with ``hit(j)``: the rungs
-    run and that first hit (None if none). The first stage of the fast searches."""
-    ends = []
-    for j in range(coarse - 1, n_rungs + coarse - 1, coarse):
-        j = min(j, n_rungs - 1)
-        ends.append(j)
-        if hit(j):
-            return ends, j
-        if j == n_rungs - 1:
-            break
-    return ends, None
-
-
-def fast_search(rung, done: dict, n_rungs: int, coarse: int, ratio: float):
-    """Index of the lowest failing rung found by the coarse-then-fine search, or None (Eq. C4
-    of docs/theory/collapse.md).
-
-    ``rung(j)`` runs (or looks up) rung j and returns an object with ``failed`` and
-    ``max_impact_velocity`` [m/s]; ``done`` maps the rungs run so far to those objects;
-    ``coarse`` and ``ratio`` are :func:`critical_sa`'s ``coarse`` and ``refine_ratio``."""
-    # coarse rungs run, up to the first coarse failure
-    ends, first = coarse_scan(lambda j: rung(j).failed, n_rungs, coarse)
-    if first is None:
-        return None
-
-    def speed(j):
-        v = rung(j).max_impact_velocity if j >= 0 else 0.0
-        return v if math.isfinite(v) else math.inf  # unknown (numerical failure): scan
-
-    scanned = set()
-    while True:
-        v_fail = min(speed(j) for j, r in done.items() if r.failed)
-        intervals = [(lo, hi) for lo, hi in zip([-1, *ends[:-1]], ends, strict=True)
-                     if lo < first and (lo, hi) not in scanned
-                     and max(speed(lo), speed(hi)) >= ratio * v_fail]  # Eq. C4
-        if not intervals:
-            return first
-        lo, hi = intervals[0]
-        scanned.add((lo, hi))
-        for j in range(lo + 1, min(hi, first)):
-            if rung(j).failed:
-                first = j
-                break
-
-
-# --------------------------------------------------------------------------- record sets
-
-
-def _record_task(bearing, motion, kwargs):
-    return critical_sa(bearing, motion, **kwargs)
-
-
-def pool_context():
-    """The multiprocessing context of :func:`critical_sas`'s pool (also used by the critical-SA
-    study)."""
-    import multiprocessing as mp
-
-    # numba-compiled code and fork can deadlock (threads/locks copied); prefer forkserver
-    methods = mp.get_all_start_methods()
-    return mp.get_context("forkserver" if "forkserver" in methods else "spawn")
-
-
-def critical_sas(
-    bearing: DFPBearing,
-    motions,
-    *,
-    processes: int | None = None,
-    progress: bool = True,
-    cache=True,
-    **kwargs,
-) -> list[CriticalSA]:
-    """Critical SA of every record of a set, in parallel, with progress and a resumable cache.
-
-    Parameters
-    ----------
-    bearing : DFPBearing
-    motions : sequence of GroundMotion
-    processes : int, optional
-        Worker processes of :func:`rigid.tasks.run_tasks` (forkserver, else spawn
-        context); default ``os.cpu_count()``; 1 (or a single record) runs in this process.
-        On any exception (Ctrl-C included) the records not started are cancelled and the
-        workers terminated; finished rungs are already in the cache.
-    progress : bool
-        Show a tqdm progress bar over records (stderr).
-    cache : None, True, str or Path
-        Rung cache directory (see :func:`critical_sa`); default the user cache.
-    **kwargs
-        Passed to :func:`critical_sa` (step, stop, search, after_failure, …).
-
-    Returns
-    -------
-    list of CriticalSA
-        In the order of ``motions``.
-    """
-    from ..tasks import Task, run_tasks
-
-    motions = list(motions)
-    kwargs = {**kwargs, "cache": cache}
-    processes = (os.cpu_count() or 1) if processes is None else int(processes)
-    tasks = [Task(str(i), "critical-sa", _record_task,
-                  {"bearing": bearing, "motion": m, "kwargs": kwargs})
-             for i, m in enumerate(motions)]
-    results = run_tasks(tasks, None, workers=1 if len(motions) <= 1 else max(1, processes),
-                        progress=bool(progress), unit="record",
-                        description=f"critical SA ({bearing.pressure / 1e6:g} MPa)",
-                        start_method=pool_context().get_start_method())
-    return [results[t.key] for t in tasks]

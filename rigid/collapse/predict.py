@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..bearing import DFPBearing
+from ..limit_states import check_limit_state, deprecated_attribute, renamed_limit_state
 from ..units import G
 
 __all__ = ["PredictedSA", "PredictionRung", "predict_critical_sa", "pulse_region"]
@@ -133,19 +134,30 @@ class pulse_region:  # a callable class, named and used like a function
         Longest time simulated after the pulse.
     max_step : float [s], optional
         Largest internal step of :func:`rigid.simulate` (default its own).
+    rims, limit_state, rim_law
+        The rim model, the limit state of the failure region and the yielding rims' law
+        (:func:`rigid.simulate`; ``failure_criterion``: the deprecated name of
+        ``limit_state``).
     """
 
+    failure_criterion = deprecated_attribute("failure_criterion")
+
+    @renamed_limit_state()
     def __init__(self, bearing: DFPBearing, kind: str, dt: float = 0.005, free: float = 20.0,
                  max_step: float | None = None, rims: str = "rigid",
-                 failure_criterion: str | None = None):
-        from ..model import _check_rims
+                 limit_state: str | None = None, rim_law=None):
         from ..motions.pulses import KINDS
 
         if kind not in KINDS:
             raise ValueError(f"kind must be 'symmetric' or 'antisymmetric', got {kind!r}")
         self.bearing, self.kind, self.dt, self.free = bearing, kind, float(dt), float(free)
         self.max_step = max_step
-        self.rims, self.failure_criterion = rims, _check_rims(rims, failure_criterion)
+        self.rims, self.limit_state = rims, check_limit_state(limit_state, rims=rims)
+        if rims == "yielding":
+            from ..rims import resolve_rim_law
+
+            rim_law = resolve_rim_law(bearing, rim_law, stacklevel=3)
+        self.rim_law = rim_law
         self._memo: dict = {}
 
     def __call__(self, period: float, amplitude: float) -> int:
@@ -161,16 +173,16 @@ class pulse_region:  # a callable class, named and used like a function
                 r = simulate(self.bearing, a, self.dt, duration=(n - 1) * self.dt + self.free,
                              max_step=self.max_step or DEFAULT_MAX_STEP, record_every=n,
                              on_instability="refine", stop_when_quiet=True, rims=self.rims,
-                             failure_criterion=self.failure_criterion)
+                             limit_state=self.limit_state, rim_law=self.rim_law)
                 self._memo[key] = 2 if r.failed else (1 if r.impacts else 0)
             except NumericalInstabilityError:
                 self._memo[key] = -1
         return self._memo[key]
 
 
-def _resolve_region(region, bearing, kind, rims="rigid", failure_criterion=None):
+def _resolve_region(region, bearing, kind, rims="rigid", limit_state=None, rim_law=None):
     if region is None:
-        return pulse_region(bearing, kind, rims=rims, failure_criterion=failure_criterion)
+        return pulse_region(bearing, kind, rims=rims, limit_state=limit_state, rim_law=rim_law)
     if isinstance(region, dict):
         if kind not in region:
             raise ValueError(f"the region mapping has no entry for a {kind} pulse")
@@ -186,6 +198,7 @@ def _resolve_region(region, bearing, kind, rims="rigid", failure_criterion=None)
     return region
 
 
+@renamed_limit_state()
 def predict_critical_sa(
     bearing: DFPBearing,
     motion,
@@ -203,7 +216,8 @@ def predict_critical_sa(
     damping: float = 0.05,
     dt: float | None = None,
     rims: str = "rigid",
-    failure_criterion: str | None = None,
+    limit_state: str | None = None,
+    rim_law=None,
 ) -> PredictedSA:
     """Predicted critical SA(Tb): the first ladder rung whose scaled pulse is in region 2
     (Eq. C5).
@@ -239,15 +253,18 @@ def predict_critical_sa(
         Damping of the scaling spectrum.
     dt : float [s], optional
         Time step when ``motion`` is an array.
-    rims, failure_criterion : str
+    rims, limit_state : str
         Rim model and limit state of the default region (:class:`pulse_region`; ignored
-        when ``region`` is given).
+        when ``region`` is given; ``failure_criterion``: the deprecated name of
+        ``limit_state``).
+    rim_law : rigid.rims.RimLaw, optional
+        The yielding rims' law of the default region (``fem.rim_law(bearing)``).
 
     Returns
     -------
     PredictedSA
     """
-    from .ladder import as_record, check_ladder, coarse_scan, record_ladder
+    from .ladder import as_record, check_ladder, record_ladder
 
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     period = bearing.design_period if period is None else float(period)
@@ -260,7 +277,7 @@ def predict_critical_sa(
     else:
         used = None
     record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
-    where = _resolve_region(region, bearing, pulse.kind, rims, failure_criterion)
+    where = _resolve_region(region, bearing, pulse.kind, rims, limit_state, rim_law)
     ap0 = abs(float(pulse.amplitude))
     done: dict[int, PredictionRung] = {}
 
@@ -271,27 +288,7 @@ def predict_critical_sa(
             done[j] = PredictionRung(j, sa, k, ap0 * k, int(where(pulse.period, ap0 * k)))
         return done[j]
 
-    first = None
-    if search == "full":
-        first = next((j for j in range(n_rungs) if rung(j).region == 2), None)
-    elif search == "bisect":
-        if rung(n_rungs - 1).region == 2:
-            lo, hi = -1, n_rungs - 1  # rung lo is below the boundary (or none), hi above
-            while hi - lo > 1:
-                mid = (lo + hi) // 2
-                lo, hi = (lo, mid) if rung(mid).region == 2 else (mid, hi)
-            first = hi
-    else:
-        ends, first = coarse_scan(lambda j: rung(j).region == 2, n_rungs, coarse)
-        if first is not None:
-            for lo, hi in zip([-1, *ends[:-1]], ends, strict=True):
-                if lo >= first:
-                    break
-                if hi == ends[-1] or rung(hi).region != 0 or (lo >= 0 and rung(lo).region != 0):
-                    hit = next((j for j in range(lo + 1, hi) if rung(j).region == 2), None)
-                    if hit is not None:
-                        first = hit
-                        break
+    first = _first_in_failure_region(lambda j: rung(j).region, n_rungs, search, coarse)
     return PredictedSA(
         sa=None if first is None else done[first].sa,
         scale=None if first is None else done[first].scale,
@@ -306,3 +303,32 @@ def predict_critical_sa(
         search=search,
         rungs=tuple(done[j] for j in sorted(done)),
     )
+
+
+def _first_in_failure_region(region, n_rungs: int, search: str, coarse: int) -> int | None:
+    """The lowest rung whose scaled pulse is in the failure region (``region(j)`` = 2; Eq.
+    C5), or None, by ``search``: "full" every rung from the bottom; "bisect" assumes one
+    boundary; "fast" every ``coarse``-th rung, then the rungs of each coarse interval with an
+    end in the impact region or above (a failure needs an impact first; paper §3.2)."""
+    from .search import coarse_scan
+
+    if search == "full":
+        return next((j for j in range(n_rungs) if region(j) == 2), None)
+    if search == "bisect":
+        if region(n_rungs - 1) != 2:
+            return None
+        lo, hi = -1, n_rungs - 1  # rung lo is below the boundary (or none), hi above
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            lo, hi = (lo, mid) if region(mid) == 2 else (mid, hi)
+        return hi
+    ends, first = coarse_scan(lambda j: region(j) == 2, n_rungs, coarse)
+    if first is not None:
+        for lo, hi in zip([-1, *ends[:-1]], ends, strict=True):
+            if lo >= first:
+                break
+            if hi == ends[-1] or region(hi) != 0 or (lo >= 0 and region(lo) != 0):
+                hit = next((j for j in range(lo + 1, hi) if region(j) == 2), None)
+                if hit is not None:
+                    return hit
+    return first

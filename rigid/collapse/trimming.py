@@ -172,7 +172,8 @@ def critical_sa_trimmed(bearing: DFPBearing, motion, step: float = 0.01 * G, *,
     dict
         ``sa`` [m/s²] or None, ``rungs`` {rung index: :func:`trimmed_outcome` dict}.
     """
-    from .ladder import fast_search, record_ladder
+    from .ladder import record_ladder
+    from .search import fast_search
 
     acc = np.asarray(motion.acceleration, dtype=float)
     record_sa, n_rungs = record_ladder(acc, motion.dt, bearing.design_period, 0.05,

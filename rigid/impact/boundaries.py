@@ -139,9 +139,22 @@ def _bisect_task(bearing, settings, cache_path, kind, periods, a_max, tol, scan_
 BISECTION_CHUNK = 10
 
 
+def bracket_midpoint(bracket) -> float:
+    """A boundary from its final bracket (lo, hi) [m/s²]: the midpoint, NaN when there is no
+    upper end (no transition up to the highest amplitude tried)."""
+    lo, hi = bracket
+    return math.nan if hi is None else 0.5 * (lo + hi)
+
+
 def boundaries_many(specs, settings, a_max, tol, scan_step, workers, progress, cache,
                      failure=True):
-    """Bisection for several (bearing, kind, periods) in one process pool."""
+    """Bisection for several (bearing, kind, periods) in one process pool (the work of
+    :func:`region_boundaries` and :func:`rigid.design_chart`; arguments as theirs, checked
+    here)."""
+    if not (a_max > 0 and tol > 0):
+        raise ValueError("amplitude_max and tolerance must be positive accelerations [m/s²]")
+    if scan_step is not None and not scan_step > 2 * tol:
+        raise ValueError("scan_step must exceed twice the tolerance")
     path = resolve_cache(cache)
     jobs, owners = [], []
     for s, (bearing, kind, periods) in enumerate(specs):
@@ -163,16 +176,12 @@ def boundaries_many(specs, settings, a_max, tol, scan_step, workers, progress, c
 def _boundary_dataset(bearing, kind, periods, rows, settings, a_max, tol, stats):
     import xarray as xr
 
-    def mid(pair):
-        lo, hi = pair
-        return math.nan if hi is None else 0.5 * (lo + hi)
-
     def arr(key, fn):
         return np.array([fn(r[key]) for r in rows])
 
     data = {}
     for name in ("impact", "failure"):
-        data[f"{name}_boundary"] = ("period", arr(name, mid), {
+        data[f"{name}_boundary"] = ("period", arr(name, bracket_midpoint), {
             "units": "m/s2", "method": "bisection",
             "long_name": f"lowest Ap with {name} (midpoint of the final bracket)"})
         data[f"{name}_lower"] = ("period", arr(name, lambda p: p[0]), {"units": "m/s2"})
@@ -250,11 +259,7 @@ def region_boundaries(
     """
     periods = default_periods(bearing) if periods is None else periods
     (periods, _) = check_sweep(bearing, kind, periods)
-    if not (amplitude_max > 0 and tolerance > 0):
-        raise ValueError("amplitude_max and tolerance must be positive accelerations [m/s²]")
     settings = SweepSettings() if settings is None else settings
-    if scan_step is not None and not scan_step > 2 * tolerance:
-        raise ValueError("scan_step must exceed twice the tolerance")
     rows, stats = boundaries_many([(bearing, kind, periods)], settings, amplitude_max,
                                    tolerance, scan_step, workers, progress, cache, failure)
     return _boundary_dataset(bearing, kind, periods, rows[0], settings, amplitude_max,

@@ -3,14 +3,13 @@ region boundaries of several bearings as Ap·Tp²/d_cap against Tb/Tp."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
 
 from ..bearing import DFPBearing
 from ..units import G
-from .boundaries import boundaries_many
+from .boundaries import boundaries_many, bracket_midpoint
 from .spectra import PERIOD_MAX, check_sweep
 from .sweep import SweepSettings
 
@@ -77,13 +76,8 @@ def design_chart(
                                     amplitude_max, tolerance, scan_step, workers, progress,
                                     cache, failure)
     order = np.argsort(tb / periods)  # rows follow ascending period; chart ascending ratio
-
-    def boundary(r, name):
-        lo, hi = r[name]
-        return math.nan if hi is None else 0.5 * (lo + hi)
-
-    ib = np.array([[boundary(r, "impact") for r in case] for case in rows])[:, order]
-    fb = np.array([[boundary(r, "failure") for r in case] for case in rows])[:, order]
+    ib = np.array([[bracket_midpoint(r["impact"]) for r in case] for case in rows])[:, order]
+    fb = np.array([[bracket_midpoint(r["failure"]) for r in case] for case in rows])[:, order]
     tp = periods[order]
     dcap = np.array([b.displacement_capacity for b in bearings])
     pi_scale = tp[None, :] ** 2 / dcap[:, None]

@@ -96,6 +96,8 @@ def spectrum_attrs(bearing: DFPBearing, kind: str, settings: SweepSettings, **ex
     for f in dataclasses.fields(bearing):
         attrs[f"bearing_{f.name}"] = getattr(bearing, f.name)
     for f in dataclasses.fields(settings):
+        if f.name == "rim_law":  # data, not a setting: in the cells' key only
+            continue
         value = getattr(settings, f.name)
         if isinstance(value, bool):
             value = int(value)
@@ -120,9 +122,13 @@ def settings_from_attrs(ds) -> SweepSettings:
     """Rebuild the :class:`SweepSettings` recorded in a spectrum's ``settings_*`` attributes."""
     kwargs = {}
     for f in dataclasses.fields(SweepSettings):
+        if f.name == "rim_law":  # not stored (the law is data: rigid.rims.RimLaw)
+            continue
         value = ds.attrs.get(f"settings_{f.name}", f.default)
-        if f.name in ("rims", "failure_criterion"):  # names, stored as themselves
-            value = str(value)
+        if f.name == "limit_state":  # files written before the rename
+            value = ds.attrs.get("settings_failure_criterion", value)
+        if f.name in ("rims", "limit_state"):  # names, stored as themselves
+            value = None if value is None else str(value)
         elif isinstance(value, str):  # "default": None
             value = None
         elif f.name == "stop_when_quiet":

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..bearing import DFPBearing
+from ..limit_states import check_limit_state, deprecated_attribute, renamed_limit_state
 from ..model import DEFAULT_MAX_STEP, RIM_NAMES, NumericalInstabilityError, simulate
 from ..motions.pulses import KINDS, ricker
 from ..tasks import ResultStore, Task, cache_root, default_workers, run_tasks, task_key
@@ -51,8 +52,14 @@ class SweepSettings:
         Capacity of the impact list of one run.
     rims : {"rigid", "yielding"}
         Rim model (:func:`rigid.simulate`).
-    failure_criterion : {"hinge", "rupture", "containment"}, optional
-        The limit state of region 2 (failure); default the rim model's.
+    limit_state : {"hinge", "rupture", "containment"}, optional
+        The limit state of region 2 (failure); default the rim model's
+        (``failure_criterion``: its deprecated name).
+    rim_law : rigid.rims.RimLaw, optional
+        The yielding rims' law (``fem.rim_law(bearing)``; :func:`rigid.simulate`); part of
+        the cells' key, not of a spectrum file's attributes nor of comparisons (``==``).
+        None with yielding rims: the deprecated fallback of
+        :func:`rigid.rims.resolve_rim_law`, once per sweep.
     """
 
     dt: float = 0.005
@@ -63,13 +70,14 @@ class SweepSettings:
     impact_merge_time: float = 0.05
     max_impacts: int = 1000
     rims: str = "rigid"
-    failure_criterion: str | None = None
+    limit_state: str | None = None
+    rim_law: object = dataclasses.field(default=None, repr=False, compare=False)
+
+    failure_criterion = deprecated_attribute("failure_criterion")
 
     def __post_init__(self):
-        from ..model import _check_rims
-
-        object.__setattr__(self, "failure_criterion",
-                           _check_rims(self.rims, self.failure_criterion))
+        object.__setattr__(self, "limit_state",
+                           check_limit_state(self.limit_state, rims=self.rims))
         for name in ("dt", "free", "max_step"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
@@ -161,7 +169,8 @@ def compute_cell(
             on_instability="refine",
             stop_when_quiet=settings.stop_when_quiet,
             rims=settings.rims,
-            failure_criterion=settings.failure_criterion,
+            limit_state=settings.limit_state,
+            rim_law=settings.rim_law,
         )
     except NumericalInstabilityError:
         nan = math.nan
@@ -179,6 +188,19 @@ def compute_cell(
         impact_velocities=tuple(i.velocity for i in r.impacts),
         impact_rims=tuple(RIM_NAMES.index(i.rim) for i in r.impacts),
     )
+
+
+SweepSettings.__init__ = renamed_limit_state()(SweepSettings.__init__)
+
+
+def with_rim_law(bearing: DFPBearing, settings: SweepSettings) -> SweepSettings:
+    """``settings`` with the yielding rims' law filled in (:func:`rigid.rims.resolve_rim_law`;
+    unchanged for rigid rims or a law already given)."""
+    if settings.rims != "yielding" or settings.rim_law is not None:
+        return settings
+    from ..rims import resolve_rim_law
+
+    return dataclasses.replace(settings, rim_law=resolve_rim_law(bearing, None, stacklevel=4))
 
 
 # -- cache -------------------------------------------------------------------------------------
@@ -225,6 +247,7 @@ class Evaluator:
     """Cells through the cache: look up, else simulate and store at once. Counts both."""
 
     def __init__(self, bearing: DFPBearing, settings: SweepSettings, cache_path: Path | None):
+        settings = with_rim_law(bearing, settings)
         self.bearing, self.settings, self.cache = bearing, settings, _cache(cache_path)
         self.computed = 0
         self.reused = 0
@@ -308,7 +331,7 @@ def run_cells(
     stats : dict
         ``computed`` and ``reused`` cell counts.
     """
-    settings = SweepSettings() if settings is None else settings
+    settings = with_rim_law(bearing, SweepSettings() if settings is None else settings)
     cells = [(str(k), float(p), float(a)) for k, p, a in cells]
     for k, p, _a in cells:
         if k not in KINDS:

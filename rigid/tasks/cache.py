@@ -27,9 +27,10 @@ ROOT = Path(__file__).resolve().parents[2]
 MODEL_CODE = {
     # the rigid-body model: what rigid.simulate runs with rigid rims
     "rigid": ("rigid/units.py", "rigid/bearing.py", "rigid/model.py", "rigid/_kernel.py",
-              "rigid/limit_states.py"),
-    # the yielding rims' law derived from the FE push (cached per bearing); results of runs
-    # with yielding rims key on it too
+              "rigid/limit_states.py", "rigid/inputs.py", "rigid/results.py"),
+    # the yielding rims' law as data and its derivation from the FE push (the push itself,
+    # fem/rim_laws.py, is in "fem"); results of runs with yielding rims key on it too, and on
+    # the law they were given (its numbers are part of their inputs)
     "rim-law": ("rigid/rims.py",),
     # the Ricker pulses of the impact-spectrum cells
     "pulses": ("rigid/motions/pulses.py",),

@@ -1,5 +1,6 @@
 """Write a validation run's report: the HTML page, a CSV file per table beside it and
-``report.nc`` with every table (:mod:`validation.report.netcdf`)."""
+``report.nc`` with every table (:mod:`validation.report.netcdf`); the FE tables and figure are
+built by :mod:`validation.report.fem_tables` (re-exported here)."""
 
 from __future__ import annotations
 
@@ -10,12 +11,23 @@ from pathlib import Path
 
 import numpy as np
 
-from fem.limit_states import LIMIT_STATES
 from rigid import G
 from rigid.collapse.comparison import comparison_rows, ladder_rows, table2, write_csv
 
+from .fem_tables import (  # re-exported: the report's FE tables and figure
+    claim_verdicts,
+    fem_rows,
+    fem_run_rows,
+    fem_statistics,
+    plot_fem_vs_rigid,
+    within_band,
+)
 from .html import Report
 from .netcdf import write_tables
+
+__all__ = ["BEARING_UNITS", "PAPER_NOTE", "bearing_rows", "claim_verdicts", "fem_rows",
+           "fem_run_rows", "fem_statistics", "plain", "plot_fem_vs_rigid", "record_rows",
+           "save_figure", "settings_rows", "software_versions", "within_band", "write_report"]
 
 PAPER_NOTE = (
     "Differences from Bao & Becker (2016): the paper used eleven pairs of Japanese records and "
@@ -162,190 +174,6 @@ def save_figure(fig, path: Path) -> Path:
     return path
 
 
-def fem_rows(fem: dict) -> list[dict]:
-    """One row per FE search: record, pressure_mpa, the limit state, rigid and FE critical SA
-    [g], their ratio, the FE failure mode and time [s], the highest surviving SA below it [g],
-    runs (numerical ones, and whether the answer depends on them), CPU [min]."""
-    rows = []
-    for pressure, found in fem.items():
-        for r in found:
-            ratio = (r.sa / r.rigid_sa) if (r.sa is not None and r.rigid_sa is not None) \
-                else None
-            y_ratio = (r.sa / r.yielding_sa) if (r.sa is not None and r.yielding_sa
-                                                 is not None) else None
-            rows.append({
-                "record": r.name, "pressure_mpa": pressure / 1e6,
-                "limit_state": r.limit_state,
-                "rigid_sa_g": None if r.rigid_sa is None else r.rigid_sa / G,
-                "fem_sa_g": None if r.sa is None else r.sa / G,
-                "fem_over_rigid": ratio,
-                "yielding_sa_g": None if r.yielding_sa is None else r.yielding_sa / G,
-                "fem_over_yielding": y_ratio,
-                "fem_failure_mode": r.failure_mode or "none",
-                "fem_failure_time_s": r.failure_time,
-                "survived_below_g": None if r.survived_below is None else r.survived_below / G,
-                "fem_runs": r.runs, "numerical_runs": r.numerical_runs,
-                "uncertain": r.uncertain, "cpu_min": r.cpu_seconds / 60,
-            })
-    return rows
-
-
-def within_band(ratios, band: float):
-    """True where a ratio lies within ±``band`` of 1 (``band`` as a fraction: 0.2 for ±20 %).
-
-    Critical SAs are rungs of 0.01 g, so ratios fall exactly on a band's edge (0.18 g against
-    0.15 g); the edge counts as inside, with a 1e-9 allowance for rounding, which would
-    otherwise put a rung stored as 0.18000000000000002 g over 0.15 g (1.2000000000000002)
-    outside."""
-    return np.abs(np.asarray(ratios, dtype=float) - 1) <= band + 1e-9
-
-
-def fem_statistics(rows: list[dict]) -> list[dict]:
-    """Paper Fig. 4 in numbers: per FE limit state and rim model of the rigid model, over the
-    searches with both answers and no uncertainty, the median FE / rigid ratio, its
-    dispersion (standard deviation of its logarithm) and how many lie within ±20 % and ±35 %
-    (the ±15 % median and ±35 % per-record goal of docs/fem_validation.md). The yielding-rim
-    row is left out when the run made no yielding-rim ladders, kept (with no case compared)
-    when every search was uncertain."""
-    out = []
-    for state in LIMIT_STATES:
-        for model, key in (("rigid rims", "fem_over_rigid"),
-                           ("yielding rims", "fem_over_yielding")):
-            of_state = [r for r in rows if r["limit_state"] == state]
-            ratios = np.array([r[key] for r in of_state
-                               if r.get(key) is not None and not r["uncertain"]], dtype=float)
-            if not of_state or (model == "yielding rims" and all(
-                    r.get("yielding_sa_g") is None and r.get(key) is None for r in of_state)):
-                continue
-            searched = len(of_state)
-            out.append({
-                "limit_state": state, "rigid_model": model, "cases": searched,
-                "compared": int(ratios.size),
-                "median_ratio": float(np.median(ratios)) if ratios.size else None,
-                "dispersion": float(np.std(np.log(ratios))) if ratios.size > 1 else None,
-                "within_20_percent": int(np.sum(within_band(ratios, 0.2))),
-                "within_35_percent": int(np.sum(within_band(ratios, 0.35))),
-            })
-    return out
-
-
-def claim_verdicts(stats: list[dict]) -> list[str]:
-    """One sentence per row of :func:`fem_statistics`: does the rigid model agree with the FE
-    model by the goal of docs/fem_validation.md (median FE / rigid within ±15 % and every
-    compared case within ±35 %)? Cases without both answers are named, not judged."""
-    out = []
-    for s in stats:
-        head = f"{s['limit_state']}, {s['rigid_model']}: "
-        if not s["compared"]:
-            out.append(head + f"no case with both answers among {s['cases']}.")
-            continue
-        holds = within_band(s["median_ratio"], 0.15) and s["within_35_percent"] == s["compared"]
-        missing = s["cases"] - s["compared"]
-        out.append(
-            head + f"median FE / rigid {s['median_ratio']:.2f}, {s['within_20_percent']} of "
-            f"{s['compared']} within ±20 % and {s['within_35_percent']} within ±35 %"
-            + (f" ({missing} of {s['cases']} cases without both answers)" if missing else "")
-            + (": agrees by the goal." if holds else ": does not agree by the goal."))
-    return out
-
-
-def fem_run_rows(fem: dict) -> list[dict]:
-    """Every FE run, in the order each search made them (a run shared by the searches of
-    several limit states is listed under each, with that limit state's verdict: ``failed``
-    True, False or "numerical"), with the times [s] it reached each limit state and, for a
-    run that ended numerically, why (``numerical_detail``)."""
-    rows = []
-    for pressure, found in fem.items():
-        for r in found:
-            for k, p in enumerate(r.probes):
-                times = p.get("limit_states") or {}
-                rows.append({
-                    "record": r.name, "pressure_mpa": pressure / 1e6,
-                    "limit_state": r.limit_state, "run": k + 1,
-                    "sa_g": p["sa"] / G, "scale": p["scale"],
-                    "failed": "numerical" if p["failed"] is None else bool(p["failed"]),
-                    "failure_mode": p.get("failure_mode") or "none",
-                    **{f"{state}_s": times.get(state) for state in LIMIT_STATES},
-                    "failure_time_s": p.get("failure_time"),
-                    "numerical_failure": bool(p.get("numerical_failure", False)),
-                    "numerical_detail": (p.get("detail") if p.get("numerical_failure")
-                                         else None),
-                    "start_s": p.get("start"), "strong_end_s": p.get("strong_end"),
-                    "end_s": p.get("end"), "quiet": bool(p.get("quiet", True)),
-                    "energy_end_over_reach": (p["energy_end"] / p["reach_energy"]
-                                              if p.get("reach_energy") else None),
-                    "steps": p.get("steps"), "newton_iterations": p.get("newton_iterations"),
-                    "dofs": p.get("dofs"),
-                    "max_plastic_strain": p.get("max_plastic_strain"),
-                    "max_rim_force_mn": (p["max_rim_force"] / 1e6
-                                         if p.get("max_rim_force") is not None else None),
-                    "cpu_s": p.get("cpu_seconds"),
-                })
-    return rows
-
-
-_MODES = {"yielding": ("^", "FE: rim yielding"), "uplift": ("o", "FE: uplift"),
-          "none": ("v", "no FE failure (at the top)"),
-          "uncertain": ("D", "FE uncertain: lower bound")}
-
-
-def plot_fem_vs_rigid(rows: list[dict], stop: float):
-    """Paper Fig. 4: FE against rigid critical SA(Tb) [g] per record, one panel per limit
-    state, 1:1 line and ±20 % band, FE failure mode by marker, pressure by colour; a search
-    without failure sits at ``stop`` [g] with a hollow marker, an uncertain one (a numerical
-    run at or below its answer) at its highest surviving SA, a lower bound, with a hollow
-    diamond (and a plus against yielding rims)."""
-    import matplotlib.pyplot as plt
-
-    states = [s for s in LIMIT_STATES if any(r["limit_state"] == s for r in rows)]
-    fig, axes = plt.subplots(1, len(states), figsize=(4.4 * len(states), 4.6), squeeze=False)
-    for ax, state in zip(axes[0], states, strict=True):
-        _fem_vs_rigid_panel(ax, [r for r in rows if r["limit_state"] == state], stop)
-        ax.set_title(f"FE limit state: {state}", fontsize=10)
-    fig.tight_layout()
-    return fig
-
-
-def _fem_vs_rigid_panel(ax, rows, stop):
-    colours = dict(zip(sorted({r["pressure_mpa"] for r in rows}, reverse=True),
-                       ("tab:red", "tab:blue", "tab:green", "tab:purple"), strict=False))
-    values = [stop if v is None else v for r in rows
-              for v in (r["rigid_sa_g"], r["fem_sa_g"], r.get("yielding_sa_g"))]
-    top = 1.1 * max([*values, 0.1])
-    ax.plot([0, top], [0, top], "k-", lw=1, label="1:1")
-    ax.fill_between([0, top], [0, 0.8 * top], [0, 1.2 * top], color="0.9", lw=0,
-                    label="±20 %")
-    seen = set()
-    for r in rows:
-        uncertain = bool(r.get("uncertain"))
-        mode = ("uncertain" if uncertain else
-                r["fem_failure_mode"] if r["fem_sa_g"] is not None else "none")
-        marker, text = _MODES.get(mode, ("s", mode))
-        x = r["rigid_sa_g"] if r["rigid_sa_g"] is not None else stop
-        y = (r.get("survived_below_g") if uncertain
-             else r["fem_sa_g"] if r["fem_sa_g"] is not None else stop)
-        if y is None:  # uncertain from the lowest rung: nothing to show
-            continue
-        colour = colours.get(r["pressure_mpa"], "k")
-        label = f"{r['pressure_mpa']:g} MPa, against rigid rims ({text})"
-        hollow = mode in ("none", "uncertain") or r["rigid_sa_g"] is None
-        ax.plot(x, y, marker, color=colour, ms=8 if marker != "D" else 6,
-                mfc="none" if hollow else colour, label=None if label in seen else label)
-        seen.add(label)
-        if r.get("yielding_sa_g") is not None:  # the same FE answer against yielding rims
-            label = (f"{r['pressure_mpa']:g} MPa, against yielding rims"
-                     + (" (FE lower bound)" if uncertain else ""))
-            ax.plot(r["yielding_sa_g"], y, "+" if uncertain else "x", color=colour, ms=8,
-                    label=None if label in seen else label)
-            seen.add(label)
-    ax.set_xlim(0, top)
-    ax.set_ylim(0, top)
-    ax.set_aspect("equal")
-    ax.set_xlabel("rigid model critical SA(Tb) [g]")
-    ax.set_ylabel("FE model critical SA(Tb) [g]")
-    ax.legend(fontsize=7, loc="upper left")
-
-
 def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
                  title: str, record_set: str, fem: dict | None = None) -> Path:
     """Write ``out/report.html``, its CSV files and ``report.nc``; return the report's path.
@@ -364,10 +192,6 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from rigid.collapse.fragility import collapse_margin, fit_lognormal
-    from rigid.collapse.plots import plot_comparison, plot_fragility
 
     figures = out / "figures"
     figures.mkdir(parents=True, exist_ok=True)
@@ -399,69 +223,10 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
 
     table2_rows, fragility_rows = [], []
     for pressure, res in results.items():
-        tag = f"{pressure / 1e6:g}MPa"
-        rows = comparison_rows(res.actual, res.predictions)
-        ladders = ladder_rows(res.actual)
-        write_csv(rows, out / f"comparison_{tag}.csv")
-        write_csv(ladders, out / f"ladders_{tag}.csv")
-        bearing = bearing_rows(res.bearing)
-        tables |= {f"bearing_{tag}": bearing, f"comparison_{tag}": rows,
-                   f"ladders_{tag}": ladders}
-        report.heading(f"Bearing at {pressure / 1e6:g} MPa")
-        report.table(bearing, caption="DFPBearing: parameters, then derived quantities")
-        columns = {"record": "record", "actual_sa_g": "actual SA [g]",
-                   "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
-                   "uncertain": "uncertain"}
-        shown = [{**r, **{f"error_pct_{c}": round(100 * r[f"error_{c}"], 1)
-                           for c in res.predictions}} for r in rows]
-        for c in sorted(res.predictions):
-            columns |= {f"kind_{c}": f"kind ({c})", f"tp_{c}": f"Tp [s] ({c})",
-                        f"predicted_sa_g_{c}": f"predicted [g] ({c})",
-                        f"error_pct_{c}": f"error [%] ({c})"}
-        report.table(shown, columns, caption=f"comparison_{tag}.csv (criterion in brackets; "
-                     "error = predicted / actual − 1; numerical rungs: integration unstable, "
-                     "outcome unknown)")
-        numerical = [a for a in res.actual if a.numerical_failures]
-        if numerical:
-            report.paragraph(
-                f"Numerical rungs at {pressure / 1e6:g} MPa (integration unstable after three "
-                "step halvings; neither failures nor survivals): " + "; ".join(
-                    f"{a.name}: {len(a.numerical_failures)} at "
-                    + ", ".join(f"{r.sa / G:.2f}" for r in a.numerical_failures[:10])
-                    + (" …" if len(a.numerical_failures) > 10 else "") + " g"
-                    + (" (uncertain)" if a.uncertain else "") for a in numerical) + ".",
-                note=True)
-        for c in sorted(res.predictions):
-            stats = table2(rows, c)
-            table2_rows.append({"pressure [MPa]": pressure / 1e6, "criterion": c,
-                                **{f"{k} good/n": f"{g}/{n}" for k, (g, n) in stats.items()}})
-        fig, axes = plt.subplots(1, len(res.predictions), figsize=(4.2 * len(res.predictions), 4))
-        for ax, c in zip(np.atleast_1d(axes), sorted(res.predictions), strict=True):
-            plot_comparison(rows, c, ax=ax)
-        report.figure(save_figure(fig, figures / f"fig12_{tag}.png"),
-                      "Predicted against actual critical SA, ±20 % band (paper Fig. 12)")
-        certain = [a for a in res.actual if not a.uncertain]
-        critical = [a.sa for a in certain]
-        if sum(v is not None for v in critical) >= 2:
-            fit = fit_lognormal(certain, stop=settings.stop)
-            margin = collapse_margin(certain, stop=settings.stop)
-            fragility_rows.append({
-                "pressure_mpa": pressure / 1e6, "median_sa_g": fit.median / G,
-                "beta": fit.beta, "records": fit.n, "censored": fit.n_censored,
-                "s_mt_g": margin.s_mt / G, "cmr": margin.cmr, "ssf": margin.ssf,
-                "acmr": margin.acmr})
-            report.paragraph(
-                f"Fragility (lognormal, censored above {settings.stop / G:.2f} g): median "
-                f"{fit.median / G:.3f} g, β = {fit.beta:.3f}, {fit.n} records "
-                f"({fit.n_censored} without failure"
-                + (f"; {len(res.actual) - len(certain)} uncertain left out"
-                   if len(certain) < len(res.actual) else "")
-                + "). " + _sentences(margin.summary())
-            )
-            fig, ax = plt.subplots(figsize=(5, 4))
-            plot_fragility(fit, [v for v in critical if v is not None], ax=ax)
-            report.figure(save_figure(fig, figures / f"fragility_{tag}.png"),
-                          "Fragility: empirical and fitted lognormal")
+        tables |= _pressure_section(report, pressure, res, out, figures, table2_rows)
+        fragility = _fragility_section(report, pressure, res, settings, figures)
+        if fragility is not None:
+            fragility_rows.append(fragility)
     write_csv(table2_rows, out / "table2.csv")
     report.heading("Table 2: predictions within 20 % of the actual critical SA")
     report.table(table2_rows, caption="table2.csv (long: Tp > 0.5 s)")
@@ -480,6 +245,90 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
                  attrs={"title": title, "record_set": record_set,
                         "elapsed_s": float(elapsed), "g": G})
     return report.write(out / "report.html")
+
+
+def _pressure_section(report, pressure, res, out, figures, table2_rows) -> dict:
+    """The report's section of one bearing pressure: the bearing, the comparison of actual and
+    predicted critical SA (CSV files, table, numerical rungs, Fig. 12); appends the pressure's
+    rows of Table 2 to ``table2_rows``; returns the section's tables by name."""
+    import matplotlib.pyplot as plt
+
+    from rigid.collapse.plots import plot_comparison
+
+    tag = f"{pressure / 1e6:g}MPa"
+    rows = comparison_rows(res.actual, res.predictions)
+    ladders = ladder_rows(res.actual)
+    write_csv(rows, out / f"comparison_{tag}.csv")
+    write_csv(ladders, out / f"ladders_{tag}.csv")
+    bearing = bearing_rows(res.bearing)
+    tables = {f"bearing_{tag}": bearing, f"comparison_{tag}": rows, f"ladders_{tag}": ladders}
+    report.heading(f"Bearing at {pressure / 1e6:g} MPa")
+    report.table(bearing, caption="DFPBearing: parameters, then derived quantities")
+    columns = {"record": "record", "actual_sa_g": "actual SA [g]",
+               "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
+               "uncertain": "uncertain"}
+    shown = [{**r, **{f"error_pct_{c}": round(100 * r[f"error_{c}"], 1)
+                      for c in res.predictions}} for r in rows]
+    for c in sorted(res.predictions):
+        columns |= {f"kind_{c}": f"kind ({c})", f"tp_{c}": f"Tp [s] ({c})",
+                    f"predicted_sa_g_{c}": f"predicted [g] ({c})",
+                    f"error_pct_{c}": f"error [%] ({c})"}
+    report.table(shown, columns, caption=f"comparison_{tag}.csv (criterion in brackets; "
+                 "error = predicted / actual − 1; numerical rungs: integration unstable, "
+                 "outcome unknown)")
+    numerical = [a for a in res.actual if a.numerical_failures]
+    if numerical:
+        report.paragraph(
+            f"Numerical rungs at {pressure / 1e6:g} MPa (integration unstable after three "
+            "step halvings; neither failures nor survivals): " + "; ".join(
+                f"{a.name}: {len(a.numerical_failures)} at "
+                + ", ".join(f"{r.sa / G:.2f}" for r in a.numerical_failures[:10])
+                + (" …" if len(a.numerical_failures) > 10 else "") + " g"
+                + (" (uncertain)" if a.uncertain else "") for a in numerical) + ".",
+            note=True)
+    for c in sorted(res.predictions):
+        stats = table2(rows, c)
+        table2_rows.append({"pressure [MPa]": pressure / 1e6, "criterion": c,
+                            **{f"{k} good/n": f"{g}/{n}" for k, (g, n) in stats.items()}})
+    fig, axes = plt.subplots(1, len(res.predictions), figsize=(4.2 * len(res.predictions), 4))
+    for ax, c in zip(np.atleast_1d(axes), sorted(res.predictions), strict=True):
+        plot_comparison(rows, c, ax=ax)
+    report.figure(save_figure(fig, figures / f"fig12_{tag}.png"),
+                  "Predicted against actual critical SA, ±20 % band (paper Fig. 12)")
+    return tables
+
+
+def _fragility_section(report, pressure, res, settings, figures) -> dict | None:
+    """The fragility paragraph and figure of one pressure (lognormal fit censored at the
+    ladder's top, FEMA P695 collapse margin), from the records whose critical SA is certain;
+    its row of the fragility table, or None with fewer than two failures."""
+    import matplotlib.pyplot as plt
+
+    from rigid.collapse.fragility import collapse_margin, fit_lognormal
+    from rigid.collapse.plots import plot_fragility
+
+    certain = [a for a in res.actual if not a.uncertain]
+    critical = [a.sa for a in certain]
+    if sum(v is not None for v in critical) < 2:
+        return None
+    fit = fit_lognormal(certain, stop=settings.stop)
+    margin = collapse_margin(certain, stop=settings.stop)
+    report.paragraph(
+        f"Fragility (lognormal, censored above {settings.stop / G:.2f} g): median "
+        f"{fit.median / G:.3f} g, β = {fit.beta:.3f}, {fit.n} records "
+        f"({fit.n_censored} without failure"
+        + (f"; {len(res.actual) - len(certain)} uncertain left out"
+           if len(certain) < len(res.actual) else "")
+        + "). " + _sentences(margin.summary())
+    )
+    fig, ax = plt.subplots(figsize=(5, 4))
+    plot_fragility(fit, [v for v in critical if v is not None], ax=ax)
+    report.figure(save_figure(fig, figures / f"fragility_{pressure / 1e6:g}MPa.png"),
+                  "Fragility: empirical and fitted lognormal")
+    return {"pressure_mpa": pressure / 1e6, "median_sa_g": fit.median / G,
+            "beta": fit.beta, "records": fit.n, "censored": fit.n_censored,
+            "s_mt_g": margin.s_mt / G, "cmr": margin.cmr, "ssf": margin.ssf,
+            "acmr": margin.acmr}
 
 
 _TRIM_TEXT = {

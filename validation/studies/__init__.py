@@ -1,10 +1,21 @@
 """Studies that produce the documented results: each module writes what ``docs/`` shows (CSV
-tables in ``docs/results/``, figures in ``docs/images/``) and is run as
-``python -m validation.studies.<name> --help``. Speed measurements are in ``benchmarks/``."""
+tables in ``docs/results/``, figures in ``docs/images/``) and is run from a checkout of the
+repository as ``python -m validation.studies.<name> --help``. Speed measurements are in
+``benchmarks/``.
+
+The studies are not part of the installed library (``pyproject.toml`` leaves
+``validation.studies`` out of the wheel); what they need beyond the library is the ``studies``
+extra (``pip install -e ".[studies]"``). Every path they read or write by default comes from
+here.
+"""
 
 from pathlib import Path
 
+#: The repository's root (the checkout the studies run from).
+ROOT = Path(__file__).resolve().parents[2]
 #: Where the studies write by default: the repository's documentation.
-DOCS = Path(__file__).resolve().parents[2] / "docs"
+DOCS = ROOT / "docs"
 RESULTS = DOCS / "results"
 IMAGES = DOCS / "images"
+#: The FE validation runs' folder (its store, comparison table and report).
+FEM_VALIDATION = DOCS / "fem-validation"

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pandas as pd
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import FEM_VALIDATION, RESULTS
 
 
 def margins(comparison: pd.DataFrame) -> pd.DataFrame:
@@ -73,8 +73,8 @@ def summary(table: pd.DataFrame) -> pd.DataFrame:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--comparison", type=Path,
-                   default=ROOT / "docs/fem-validation/fem_comparison.csv")
-    p.add_argument("--out", type=Path, default=ROOT / "docs/results/containment_margin.csv")
+                   default=FEM_VALIDATION / "fem_comparison.csv")
+    p.add_argument("--out", type=Path, default=RESULTS / "containment_margin.csv")
     args = p.parse_args()
     table = margins(pd.read_csv(args.comparison))
     if table.empty:

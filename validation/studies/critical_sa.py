@@ -34,8 +34,8 @@ import numpy as np
 import rigid
 from rigid.collapse.comparison import comparison_rows, ladder_rows, table2, write_csv
 from rigid.collapse.fragility import collapse_margin, fit_lognormal
-from rigid.collapse.ladder import critical_sas, pool_context
 from rigid.collapse.predict import predict_critical_sa, pulse_region
+from rigid.collapse.record_set import critical_sas, pool_context
 from rigid.tasks import Task, cache_root, code_hash, run_tasks
 
 from . import RESULTS

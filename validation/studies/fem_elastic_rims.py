@@ -5,7 +5,7 @@ With the assumed steel rims the light bearing's FE model fails by rim yielding, 
 (``validation/studies/fem_uplift.py``). This study keeps the FE steel elastic, as the rigid
 model keeps its rims rigid, and scans Ricker pulses (both kinds, Tp = 1, 2, 3 s, Ap on a ladder)
 through both models: the FE model (coarse mesh, small strain,
-``failure_criterion="containment"``) and the rigid model at several coefficients of restitution
+``limit_state="containment"``) and the rigid model at several coefficients of restitution
 e (the paper's 0.65 and higher: an elastic FE impact dissipates little). Small strain because
 the elastic rims stay within it and finite deformation costs 10 times more in these flights and
 landings (docs/fe-companion.md). For every pulse it prints the lowest failing amplitude of each
@@ -72,7 +72,7 @@ def run_pulse(kind: str, tp: float, ap_g: float, cache: str) -> dict:
             row["rigid_rebound"] = rebound_ratio(r.time, r.displacement, r.rim_force)
     cpu = time.process_time()
     res = fem.simulate(DFPBearing(pressure=PRESSURE), a, DT, mesh_options=COARSE_MESH,
-                       failure_criterion="containment", plasticity=False, kinematics="small",
+                       limit_state="containment", plasticity=False, kinematics="small",
                        cache_dir=cache)
     row.update(
         fem=("numerical" if res.numerical_failure else res.failure_mode or "none"),

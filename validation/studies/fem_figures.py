@@ -83,7 +83,7 @@ def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.
     window = trimmed_window(bearing, a, motion.dt, "end", lead=0.1)
     t0 = window.start * motion.dt
     cpu = time.process_time()
-    res = fem.simulate(bearing, a[window.start:], motion.dt, failure_criterion="containment",
+    res = fem.simulate(bearing, a[window.start:], motion.dt, limit_state="containment",
                        duration=(a.size - 1) * motion.dt - t0 + 5.0, snapshot_every=4,
                        mesh_options=MESHES[mesh], edge_radius=edge_radius_mm / 1e3)
     cpu = time.process_time() - cpu

@@ -22,7 +22,8 @@ from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore, Task, run_tasks, task_key
 from validation.fem_runs import fem_run
 from validation.fem_search import failed_under
-from validation.studies.fem_validation_status import ROOT, replayed, run_settings
+from validation.studies import FEM_VALIDATION, RESULTS
+from validation.studies.fem_validation_status import replayed, run_settings
 
 
 def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None) -> list[dict]:
@@ -46,7 +47,7 @@ def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None) 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--out", type=Path, default=ROOT / "docs/fem-validation",
+    p.add_argument("--out", type=Path, default=FEM_VALIDATION,
                    help="the validation run's folder (its results.sqlite)")
     p.add_argument("--limit-state", default="hinge")
     p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
@@ -65,7 +66,7 @@ def main() -> None:
         key = task_key("fem-run", r["models"], runner=None, **kwargs)
         r["key"] = key
         tasks.append(Task(key, "fem-run", fem_run, kwargs))
-    folder = ROOT / "docs/results/fem_trimming_check"
+    folder = RESULTS / "fem_trimming_check"
     folder.mkdir(parents=True, exist_ok=True)
     with ResultStore(folder / "results.sqlite") as store:
         results = run_tasks(tasks, store, workers=args.workers, description="untrimmed FE runs",
@@ -84,7 +85,7 @@ def main() -> None:
             "untrimmed_max_rim_force_mn": full["max_rim_force"] / 1e6,
             "trimmed_cpu_s": trimmed["cpu_seconds"], "untrimmed_cpu_s": full["cpu_seconds"],
         })
-    path = ROOT / "docs/results/fem_trimming_check.csv"
+    path = RESULTS / "fem_trimming_check.csv"
     write_csv(table, path)
     same = sum(t["trimmed_failed"] == t["untrimmed_failed"] for t in table)
     print(f"the same verdict on {same} of {len(table)} surviving runs; {path}")

@@ -1,7 +1,7 @@
 """Does the light bearing (10 MPa) of the FE model ever fail by uplift? A sweep of Ricker pulses.
 
 For each Ricker pulse (Tp, Ap, symmetric or antisymmetric) the script runs the rigid model and
-the FE model (coarse mesh, finite deformation, ``failure_criterion="containment"`` so the run
+the FE model (coarse mesh, finite deformation, ``limit_state="containment"`` so the run
 goes on past the first rim hinge until the slider gets past a rim) and prints the outcome of
 both, the FE limit states and hinge times, and the quantities that decide between tipping and
 rim yielding: the largest slider rotation and rise, and the largest rim force against the
@@ -36,7 +36,7 @@ from rigid import DFPBearing, G, ricker_record
 KINEMATICS = "small" if "--small" in sys.argv else "finite"
 DEFAULT = ["2:0.8", "1:2.0", "0.5:3.0", "3:0.8", "1:1.0", "2:1.5", "2:1.0:a", "1:2.0:a"]
 #: The FE runs' settings besides the kinematics: coarse mesh, run to the loss of containment.
-FE_OPTIONS = {"mesh_options": COARSE_MESH, "max_step": 0.01, "failure_criterion": "containment"}
+FE_OPTIONS = {"mesh_options": COARSE_MESH, "max_step": 0.01, "limit_state": "containment"}
 
 
 def parse_case(case: str) -> tuple[float, float, str]:

@@ -31,7 +31,7 @@ from validation.report.write import (
 )
 from validation.run import Settings, critical_from_json, rigid_tasks
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import FEM_VALIDATION
 
 
 def run_settings(limit_states=("hinge",), rim_thickness_mm=None) -> Settings:
@@ -93,7 +93,7 @@ def replay(out: Path, settings: Settings, motions) -> list[dict]:
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--out", type=Path, default=ROOT / "docs/fem-validation")
+    p.add_argument("--out", type=Path, default=FEM_VALIDATION)
     p.add_argument("--limit-state", nargs="+", default=["hinge"])
     p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
     args = p.parse_args()

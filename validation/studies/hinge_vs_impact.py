@@ -20,7 +20,8 @@ import numpy as np
 from rigid import DFPBearing, G, fema_p695, scale_factor, simulate
 from rigid.collapse.comparison import write_csv
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import FEM_VALIDATION, RESULTS
+
 FREE = 20.0   # s simulated after the record, as the ladders
 
 
@@ -53,7 +54,7 @@ def first_impact_rung(bearing, motion, start: int) -> tuple[int, float]:
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--out", type=Path, default=ROOT / "docs/fem-validation",
+    p.add_argument("--out", type=Path, default=FEM_VALIDATION,
                    help="the validation run's folder (its fem_comparison.csv)")
     args = p.parse_args()
     motions = {m.name: m for m in fema_p695("nearfield_pulse")}
@@ -68,7 +69,7 @@ def main() -> None:
                      "first_impact_sa_g": k / 100, "first_impact_velocity_m_s": v,
                      "yielding_hinge_sa_g": float(r["yielding_sa_g"]),
                      "fem_hinge_sa_g": float(r["fem_sa_g"])})
-    path = ROOT / "docs/results/hinge_vs_first_impact.csv"
+    path = RESULTS / "hinge_vs_first_impact.csv"
     write_csv(rows, path)
     gap = collections.Counter(round(r["fem_hinge_sa_g"] - r["first_impact_sa_g"], 2)
                               for r in rows)

@@ -29,8 +29,8 @@ from rigid import fema_p695
 from rigid.collapse.comparison import write_csv
 from validation.fem_runs import fem_run
 
-from . import IMAGES, RESULTS
-from .fem_validation_status import ROOT, run_settings, stored_runs
+from . import DOCS, IMAGES, RESULTS
+from .fem_validation_status import run_settings, stored_runs
 
 
 class JacobianWatch:
@@ -116,7 +116,7 @@ def diagnose(result: dict, kwargs: dict):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "fem-validation-rims80")
+    parser.add_argument("--out", type=Path, default=DOCS / "fem-validation-rims80")
     parser.add_argument("--rim-thickness", type=float, default=80.0, help="[mm]")
     parser.add_argument("--limit-state", nargs="+", default=["hinge", "rupture",
                                                              "containment"])

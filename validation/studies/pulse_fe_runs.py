@@ -10,16 +10,19 @@ import time
 import numpy as np
 
 from rigid import DFPBearing
+from rigid.limit_states import renamed_limit_state
 
 __all__ = ["fe_pulse_run"]
 
 
+@renamed_limit_state("criterion")
 def fe_pulse_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str = "coarse",
                  max_step: float = 5e-3, impact_step: float = 5e-4,
-                 kinematics: str = "finite", criterion: str = "containment",
+                 kinematics: str = "finite", limit_state: str = "containment",
                  **_unused) -> dict:
     """FE run of ``scale · acceleration`` (a unit-amplitude pulse record [m/s²], sampled every
-    ``dt`` [s]) from rest to the record's end or to ``criterion``.
+    ``dt`` [s]) from rest to the record's end or to ``limit_state`` (``criterion``: its
+    deprecated name).
 
     ``bearing`` is ``dataclasses.asdict`` of a DFPBearing. Options as :func:`fem.simulate`
     (``mesh``: "coarse", :data:`fem.geometry.COARSE_MESH`, or "default"); the trimming
@@ -41,7 +44,7 @@ def fe_pulse_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: 
     res = simulate(DFPBearing(**bearing), scale * np.asarray(acceleration, dtype=float), dt,
                    mesh_options={"coarse": COARSE_MESH, "default": {}}[mesh],
                    max_step=max_step, impact_step=impact_step, kinematics=kinematics,
-                   failure_criterion=criterion)
+                   limit_state=limit_state)
     return {
         "failed": bool(res.failed), "failure_mode": res.failure_mode,
         "failure_time": res.failure_time, "numerical_failure": bool(res.numerical_failure),

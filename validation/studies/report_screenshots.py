@@ -22,7 +22,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import DOCS, IMAGES
 
 #: Flags for a quiet, offline, throw-away headless Chromium.
 FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -105,8 +105,8 @@ def screenshot(report: Path, width: int, png: Path, chromium: str, height: int) 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--report", default=str(ROOT / "docs/example-report/report.html"))
-    parser.add_argument("--out", default=str(ROOT / "docs/images"),
+    parser.add_argument("--report", default=str(DOCS / "example-report/report.html"))
+    parser.add_argument("--out", default=str(IMAGES),
                         help="folder of report_<width>px.png")
     parser.add_argument("--widths", type=int, nargs="+", default=[800, 1400])
     args = parser.parse_args(argv)

@@ -25,7 +25,8 @@ import numpy as np
 from rigid import DFPBearing, G
 from rigid.rims import LEVER_FRACTION
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import IMAGES, RESULTS
+
 #: The case: heavy bearing, symmetric pulse, Tp = 2 s; FE containment lost at 0.45 g, held at
 #: 0.40 g (docs/results/yielding_rims_vs_fe.csv); the rigid model loses it at 0.35 g.
 CASE = {"pressure": 60e6, "tp": 2.0, "kind": "symmetric", "amplitudes_g": (0.40, 0.45)}
@@ -58,7 +59,7 @@ def fe_corner_paths(bearing: DFPBearing, tp: float, kind: str, amplitude: float)
     motion = pulse_motion(tp, kind)
     res = simulate(bearing, amplitude * motion.acceleration, motion.dt,
                    mesh_options=COARSE_MESH, max_step=5e-3, impact_step=5e-4,
-                   kinematics="finite", failure_criterion="containment",
+                   kinematics="finite", limit_state="containment",
                    snapshot_every=SNAPSHOT_EVERY)
     return res, {name: [(t, *corner_motion(res.mesh, bearing, d, name))
                         for t, d, _, _ in res.snapshots] for name in RIMS}
@@ -82,8 +83,8 @@ def link_corner(bearing: DFPBearing, plastic_set) -> np.ndarray:
 
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--csv", type=Path, default=ROOT / "docs/results/rim_corner_path.csv")
-    p.add_argument("--figure", type=Path, default=ROOT / "docs/images/rim_corner_path.png")
+    p.add_argument("--csv", type=Path, default=RESULTS / "rim_corner_path.csv")
+    p.add_argument("--figure", type=Path, default=IMAGES / "rim_corner_path.png")
     p.add_argument("--plot-only", action="store_true", help="redraw the figure from the CSV")
     args = p.parse_args(argv)
     bearing = DFPBearing(pressure=CASE["pressure"])

@@ -20,7 +20,7 @@ from fem.pushover import rim_pushover
 from rigid import DFPBearing
 from rigid.collapse.comparison import write_csv
 
-RESULTS = Path(__file__).resolve().parents[2] / "docs" / "results"
+from . import RESULTS
 
 #: Rim element sizes [m]: 2, 4, 8 and 16 elements across the 40 mm rim (8: the default mesh).
 RIM_SIZES = (0.02, 0.01, 0.005, 0.0025)

@@ -35,8 +35,8 @@ from rigid import fema_p695
 from rigid.collapse.comparison import write_csv
 from validation.fem_runs import fem_run
 
-from . import RESULTS
-from .fem_validation_status import ROOT, run_settings, stored_runs
+from . import FEM_VALIDATION, RESULTS
+from .fem_validation_status import run_settings, stored_runs
 
 #: The stored fields compared (those of :func:`validation.fem_runs.fem_run`'s result).
 FIELDS = ("failed", "failure_mode", "failure_time", "numerical_failure", "detail",
@@ -93,7 +93,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="step", required=True)
     c = sub.add_parser("collect")
-    c.add_argument("--out", type=Path, default=ROOT / "docs" / "fem-validation")
+    c.add_argument("--out", type=Path, default=FEM_VALIDATION)
     c.add_argument("--limit-state", nargs="+", default=["hinge", "rupture", "containment"])
     c.add_argument("--rim-thickness", type=float, default=None, help="[mm]")
     c.add_argument("--per-pressure", type=int, default=3)

@@ -13,6 +13,7 @@ import argparse
 
 import numpy as np
 
+from fem import rim_law
 from rigid import DFPBearing, G, SweepSettings, impact_region_spectrum
 from rigid.impact import default_periods
 
@@ -20,9 +21,9 @@ from . import IMAGES
 
 PANELS = (("rigid rims (the paper's model)", {}),
           ("yielding rims, failure = hinge", {"rims": "yielding",
-                                              "failure_criterion": "hinge"}),
+                                              "limit_state": "hinge"}),
           ("yielding rims, failure = containment", {"rims": "yielding",
-                                                    "failure_criterion": "containment"}))
+                                                    "limit_state": "containment"}))
 
 
 def main() -> None:
@@ -43,6 +44,8 @@ def main() -> None:
     cmap = ListedColormap(["0.6", "white", "tab:blue", "tab:red"])  # numerical, 0, 1, 2
     fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 4.0), sharey=True)
     for ax, (title, options) in zip(axes, PANELS, strict=True):
+        if options.get("rims") == "yielding":
+            options = {**options, "rim_law": rim_law(bearing)}
         ds = impact_region_spectrum(bearing, "symmetric", periods, amplitudes,
                                     settings=SweepSettings(**options), workers=args.workers)
         region = ds["region"].values  # (amplitude, period)

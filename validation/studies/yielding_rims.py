@@ -22,13 +22,15 @@ import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
+import fem
 import rigid
 from rigid import DFPBearing, G, GroundMotion, ricker_record
 from rigid.tasks import ResultStore
 from validation.fem_search import FESearches, FESettings
 from validation.studies.pulse_fe_runs import fe_pulse_run
 
-ROOT = Path(__file__).resolve().parents[2]
+from . import RESULTS
+
 #: Pulses (Tp [s], kind): both kinds, Tp 1–3 s.
 PULSES = [(tp, kind) for kind in ("symmetric", "antisymmetric") for tp in (1.0, 2.0, 3.0)]
 #: Bearing pressures [Pa]: the paper's heavy and light bearings.
@@ -96,7 +98,7 @@ def fe_searches(out: Path, workers: int) -> dict:
 
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--out", type=Path, default=ROOT / "docs/results/yielding_rims_fe")
+    p.add_argument("--out", type=Path, default=RESULTS / "yielding_rims_fe")
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--fe-only", action="store_true", help="run the FE searches only")
     args = p.parse_args(argv)
@@ -107,7 +109,7 @@ def main(argv=None) -> None:
               f"{r.runs} runs, {r.numerical_runs} numerical)", flush=True)
     if args.fe_only:
         return
-    write_table(fe, ROOT / "docs/results/yielding_rims_vs_fe.csv")
+    write_table(fe, RESULTS / "yielding_rims_vs_fe.csv")
 
 
 def write_table(fe: dict, path: Path) -> None:
@@ -121,7 +123,8 @@ def write_table(fe: dict, path: Path) -> None:
             cache[name, tp, kind] = rigid_critical_amplitude(bearing, motion)[0]
         rigid_rims = cache[name, tp, kind]
         yielding, numerical = rigid_critical_amplitude(bearing, motion, rims="yielding",
-                                                       failure_criterion=state)
+                                                       limit_state=state,
+                                                       rim_law=fem.rim_law(bearing))
         fe_sa = r.sa
         rows.append({
             "bearing": name, "pressure_MPa": BEARINGS[name] / 1e6, "kind": kind, "Tp_s": tp,

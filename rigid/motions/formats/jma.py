@@ -8,17 +8,17 @@ import re
 import numpy as np
 
 from ...limits import MAX_RECORD_SAMPLES
-from ...units import to_si
 from ..record import GroundMotion, RecordFormatError
 from .text import (
     acceleration_bound,
-    check_dt,
     excerpt,
     implausible,
     make_motion,
     names_encoding,
     read_lines,
+    sampling_interval,
     too_many_samples,
+    unit_factor,
 )
 
 
@@ -64,19 +64,10 @@ def read_jma_csv(path, component: str = "NS", name: str | None = None) -> Ground
     if "SAMPLING RATE" not in header:
         raise RecordFormatError(path, None, "missing 'SAMPLING RATE= …Hz' (no time step)")
     line_no, text = header["SAMPLING RATE"]
-    m = re.match(r"(\d+(?:\.\d*)?)\s*Hz", text, re.IGNORECASE)
-    if not m or float(m.group(1)) <= 0:
-        raise RecordFormatError(path, line_no,
-                                f"expected 'SAMPLING RATE= 100Hz', found {excerpt(text)}")
-    dt = check_dt(path, line_no, 1.0 / float(m.group(1)), "SAMPLING RATE")
+    dt = sampling_interval(path, line_no, text, "SAMPLING RATE= 100Hz", "SAMPLING RATE")
     line_no, units = header.get("UNIT", (None, ""))
     unit_key = units.split("(")[0].strip()
-    try:
-        factor = to_si(unit_key)
-    except ValueError:
-        raise RecordFormatError(
-            path, line_no, f"wrong units {excerpt(units, 20)}: expected 'UNIT = gal'"
-        ) from None
+    factor = unit_factor(path, line_no, unit_key, "'UNIT = gal'", shown=units)
     bound = acceleration_bound(factor)
     comp = component.strip().upper()
     if comp not in columns:

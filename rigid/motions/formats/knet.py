@@ -10,12 +10,13 @@ from ..record import GroundMotion, RecordFormatError
 from .text import (
     NUMBER,
     acceleration_bound,
-    check_dt,
     excerpt,
+    fortran_float,
     make_motion,
     names_encoding,
     parse_block,
     read_lines,
+    sampling_interval,
 )
 
 _KNET_KEYS = {
@@ -79,12 +80,7 @@ def read_knet(path, name: str | None = None, remove_mean: bool = True) -> Ground
         if key not in header:
             raise RecordFormatError(path, None, f"missing header field {key!r}")
     line_no, text = header["sampling_frequency"]
-    m = re.match(r"(\d+(?:\.\d*)?)\s*Hz", text, re.IGNORECASE)
-    if not m or float(m.group(1)) <= 0:
-        raise RecordFormatError(
-            path, line_no, f"expected 'Sampling Freq(Hz) 100Hz', found {excerpt(text)}"
-        )
-    dt = check_dt(path, line_no, 1.0 / float(m.group(1)), "Sampling Freq(Hz)")
+    dt = sampling_interval(path, line_no, text, "Sampling Freq(Hz) 100Hz", "Sampling Freq(Hz)")
     line_no, text = header["scale_factor"]
     m = re.match(rf"({NUMBER})\s*\(\s*([^)]+)\)\s*/\s*({NUMBER})", text)
     if not m:
@@ -94,8 +90,7 @@ def read_knet(path, name: str | None = None, remove_mean: bool = True) -> Ground
     if m.group(2).strip().lower() != "gal":
         raise RecordFormatError(path, line_no,
                                 f"wrong units {excerpt(m.group(2), 20)}: expected (gal)")
-    numerator, denominator = (float(m.group(k).replace("D", "E").replace("d", "e"))
-                              for k in (1, 3))
+    numerator, denominator = (fortran_float(m.group(k)) for k in (1, 3))
     if not (0 < numerator < float("inf") and 0 < denominator < float("inf")):
         raise RecordFormatError(path, line_no, "expected a positive, finite scale factor "
                                 f"(gal per count), found {excerpt(text)}")

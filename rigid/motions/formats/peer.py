@@ -6,18 +6,19 @@ import re
 from pathlib import Path
 
 from ...limits import MAX_RECORD_SAMPLES
-from ...units import to_si
 from ..record import GroundMotion, RecordFormatError
 from .text import (
     NUMBER,
     acceleration_bound,
     check_dt,
     excerpt,
+    fortran_float,
     make_motion,
     names_encoding,
     parse_block,
     read_lines,
     too_many_samples,
+    unit_factor,
 )
 
 _NGA_WEST2 = re.compile(rf"NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*({NUMBER})", re.IGNORECASE)
@@ -61,13 +62,7 @@ def read_peer_at2(path, name: str | None = None) -> GroundMotion:
     if not m:
         raise RecordFormatError(path, 3, "expected the units ('… IN UNITS OF G')")
     units = m.group(1).strip()
-    try:
-        factor = to_si(units)
-    except ValueError:
-        raise RecordFormatError(
-            path, 3,
-            f"wrong units {excerpt(units, 20)}: expected acceleration units (G, CM/S/S, GAL)",
-        ) from None
+    factor = unit_factor(path, 3, units, "acceleration units (G, CM/S/S, GAL)")
     header = lines[3]
     m = _NGA_WEST2.search(header) or _NGA_OLD.search(header)
     if not m:
@@ -76,7 +71,7 @@ def read_peer_at2(path, name: str | None = None) -> GroundMotion:
         )
     if len(m.group(1)) > 9:
         raise RecordFormatError(path, 4, f"NPTS={m.group(1)[:12]}: {too_many_samples()}")
-    npts, dt = int(m.group(1)), float(m.group(2).replace("D", "E").replace("d", "e"))
+    npts, dt = int(m.group(1)), fortran_float(m.group(2))
     if not dt > 0:
         raise RecordFormatError(path, 4, f"expected a positive DT, found {excerpt(m.group(2))}")
     check_dt(path, 4, dt, "DT")

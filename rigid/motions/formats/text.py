@@ -1,7 +1,8 @@
 """Text handling shared by the record readers: refusing what is not a regular text file,
 decoding (UTF-8, UTF-16, Shift-JIS, latin-1, the encoding named in errors), parsing a block of
-numbers with messages that name the file and the line, the plausibility checks of a record
-(docs/limits.md), and short excerpts of file content for messages."""
+numbers with messages that name the file and the line, the header fields several formats share
+(a sampling rate in Hz, acceleration units, Fortran numbers), the plausibility checks of a
+record (docs/limits.md), and short excerpts of file content for messages."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import codecs
 import functools
 import math
 import os
+import re
 import stat
 from pathlib import Path
 
@@ -21,7 +23,7 @@ from ...limits import (
     MAX_RECORD_SAMPLES,
     RECORD_DT_RANGE,
 )
-from ...units import G
+from ...units import G, to_si
 from ..record import GroundMotion, RecordFormatError
 
 #: A number as the record formats write it (Fortran ``D`` exponents included).
@@ -245,6 +247,33 @@ def check_dt(path, line, dt: float, source: str = "DT") -> float:
                                 f"record's time step must be between {low:g} and {high:g} s "
                                 "(accelerographs sample at 10-10,000 Hz; docs/limits.md)")
     return dt
+
+
+def fortran_float(text: str) -> float:
+    """A number as the record formats write it, Fortran ``D`` exponents included
+    ("7.845D+03" → 7845.0); ValueError if it is none."""
+    return float(text.replace("D", "E").replace("d", "e"))
+
+
+def sampling_interval(path, line, text: str, expected: str, source: str) -> float:
+    """The time step [s] of a header's sampling rate ``text`` such as ``100Hz`` (JMA, K-NET),
+    checked by :func:`check_dt` (``source``: the field's name); RecordFormatError at ``line``
+    quoting ``expected`` (how the field should read) when it is no positive rate in Hz."""
+    m = re.match(r"(\d+(?:\.\d*)?)\s*Hz", text, re.IGNORECASE)
+    if not m or float(m.group(1)) <= 0:
+        raise RecordFormatError(path, line, f"expected '{expected}', found {excerpt(text)}")
+    return check_dt(path, line, 1.0 / float(m.group(1)), source)
+
+
+def unit_factor(path, line, units: str, expected: str, shown: str | None = None) -> float:
+    """m/s² per unit of a header's acceleration ``units`` (:func:`rigid.units.to_si`);
+    RecordFormatError at ``line`` quoting ``shown`` (default ``units``: the field as written)
+    and ``expected`` when they are not acceleration units."""
+    try:
+        return to_si(units)
+    except ValueError:
+        quoted = excerpt(units if shown is None else shown, 20)
+        raise RecordFormatError(path, line, f"wrong units {quoted}: expected {expected}") from None
 
 
 def make_motion(path, line, **fields) -> GroundMotion:

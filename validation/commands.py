@@ -1,0 +1,271 @@
+"""The commands of ``dfp`` (simulate, pulses, critical, validate): each takes the parsed
+arguments (:func:`validation.cli.build_parser`) and returns an exit status; errors are raised as
+:class:`CommandError` (bad input) or :class:`NoAnswerError` (no trustworthy answer) and turned
+into one line by :func:`validation.cli.main`."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+from rigid.limit_states import check_limit_state
+from rigid.limits import MAX_RECORD_ACCELERATION
+from rigid.motions import FEMA_P695_SETS
+from rigid.units import G
+
+__all__ = ["CommandError", "NoAnswerError", "critical", "pulses", "simulate", "validate"]
+
+#: Records of the quick run: the first components of the first FEMA P695 records of the set.
+QUICK_RECORDS = 4
+#: FE critical SA in the quick run: this many records (the shortest), at the first pressure.
+QUICK_FEM_RECORDS = 1
+#: FE time step [s] while sliding freely: the quick run's, and the full run's (fem.simulate's
+#: default).
+QUICK_FEM_STEP, FULL_FEM_STEP = 0.01, 0.005
+
+
+class CommandError(Exception):
+    """A user-facing error: printed as one line, exit status 2."""
+
+
+class NoAnswerError(Exception):
+    """The computation ran but gives no trustworthy answer: printed as one line, exit 1."""
+
+
+def _output_folder(path: str) -> Path:
+    folder = Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / ".write-test"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as exc:
+        raise CommandError(f"cannot write to output folder {folder}: {exc.strerror}") from None
+    return folder
+
+
+def _locked_output_folder(args) -> Path:
+    """The output folder, created, writable and locked for this run (released at exit)."""
+    from rigid.tasks import FolderLock
+
+    folder = _output_folder(args.out)
+    args._lock = FolderLock(folder).acquire()
+    return folder
+
+
+def _bearing(args):
+    import dataclasses
+
+    from rigid import DFPBearing
+
+    return dataclasses.replace(DFPBearing(), pressure=args.pressure * 1e6)
+
+
+def _record(args):
+    from rigid import read_record
+
+    if not Path(args.record).exists():
+        raise CommandError(f"record file {args.record} does not exist")
+    return read_record(args.record, dt=args.dt, units=args.units)
+
+
+def _no_answer(kind: str, error) -> NoAnswerError:
+    return NoAnswerError(f"numerical instability, not a physical failure: {error} ({kind})")
+
+
+def simulate(args) -> int:
+    """Run the rigid model on a Ricker pulse or a record; print impacts and failure; plot."""
+    from rigid import NumericalInstabilityError, ricker_record
+    from rigid import simulate as run
+    from rigid.plots import plot_response
+
+    out = _locked_output_folder(args)
+    bearing = _bearing(args)
+    if args.record:  # read and checked before anything is printed
+        motion = _record(args)
+        if motion.pga * args.scale > MAX_RECORD_ACCELERATION:
+            raise CommandError(f"--scale {args.scale:g} takes the peak acceleration of "
+                               f"{motion.name} to {motion.pga * args.scale / G:.3g} g, beyond "
+                               f"the {MAX_RECORD_ACCELERATION / G:g} g of any recorded ground "
+                               "motion (docs/limits.md)")
+        dt, acceleration = motion.dt, args.scale * motion.acceleration
+        title = f"{args.pressure:g} MPa, {motion.name} × {args.scale:g}"
+    else:
+        dt = 0.005
+        _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
+        title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
+                 f"Tp = {args.period:g} s")
+    print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
+          f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
+          f" period {bearing.period:.2f} s)")
+    print(title)
+    try:
+        result = run(bearing, acceleration, dt, **_rim_options(args, bearing))
+    except NumericalInstabilityError as exc:
+        raise _no_answer("the rigid model's integration stayed unstable; the run gives no "
+                         "verdict", exc) from None
+    print(result.summary())
+    path = plot_response(result, out / "response.png", title=title)
+    print(f"plot: {path}")
+    return 0
+
+
+def pulses(args) -> int:
+    """Extract the best Ricker pulse of a record by each criterion of paper §4.1; plot."""
+    from rigid import best_pulse
+    from rigid.motions.plots import plot_record_pulses
+
+    out = _locked_output_folder(args)
+    motion = _record(args)
+    found = []
+    print(f"{motion.name}: dt = {motion.dt:g} s, {motion.acceleration.size} samples")
+    print("criterion  kind           Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
+    for criterion in (1, 2, 3, 4):
+        p = best_pulse(motion, criterion=criterion, weighting=args.weighting)
+        found.append(p)
+        print(f"{criterion:9d}  {p.kind:13s} {p.period:7.3f} {p.amplitude / G:8.3f} "
+              f"{p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
+    path = plot_record_pulses(motion, found, out / "pulses.png", title=motion.name)
+    print(f"plot: {path}")
+    return 0
+
+
+def _index(value) -> str:
+    """A match index for the pulse table: 3 decimals, or a dash when undefined."""
+    return f"{value:7.3f}" if math.isfinite(value) else f"{'—':>7s}"
+
+
+def critical(args) -> int:
+    """Critical SA(4.5 s) of a record by the 0.01 g ladder, and its pulse prediction.
+
+    Exit status 1 (after the two lines) when either answer depends on rungs whose
+    integration stayed unstable (numerical: neither failures nor survivals)."""
+    from rigid import critical_sa, predict_critical_sa
+
+    bearing = _bearing(args)
+    motion = _record(args)
+    rims = _rim_options(args, bearing)
+    actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
+                         after_failure=args.after_failure, **rims)
+    print(actual.summary())
+    predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
+                                    stop=args.stop * G, search=args.search, **rims)
+    print(predicted.summary())
+    uncertain = [what for what, r in (("critical SA", actual), ("prediction", predicted))
+                 if r.uncertain]
+    if uncertain:
+        n = len(actual.numerical_failures) + len(predicted.numerical_failures)
+        raise NoAnswerError(f"the {' and the '.join(uncertain)} depend on {n} numerical "
+                            "rung(s) (integration unstable, outcome unknown): no verdict")
+    return 0
+
+
+def _motions(args):
+    from rigid import fema_p695, read_manifest
+
+    if args.manifest:
+        motions = read_manifest(args.manifest)
+        label = f"manifest {args.manifest}"
+    else:
+        if args.set not in FEMA_P695_SETS:
+            raise CommandError(f"unknown record set {args.set!r}; choose from "
+                               f"{', '.join(FEMA_P695_SETS)}")
+        motions = fema_p695(args.set)
+        label = f"FEMA P695 {args.set}"
+    if args.quick and args.records is None:
+        motions = motions[: 2 * QUICK_RECORDS : 2]  # first component of the first records
+    elif args.records is not None:
+        motions = motions[: args.records]
+    if not motions:
+        raise CommandError("the record set is empty")
+    return motions, label
+
+
+def validate(args) -> int:
+    """Critical SA by time history and its pulse-based prediction over a record set; report."""
+    import time
+
+    from validation.fem_search import FESettings
+    from validation.report import write_report
+    from validation.run import Settings, run_validation
+
+    out = _locked_output_folder(args)
+    motions, label = _motions(args)
+    criteria = args.criteria or ((3, 4) if args.quick else (1, 2, 3, 4))
+    fem_pressures = args.fem_pressure or (args.pressure[:1] if args.quick else args.pressure)
+    unknown = [p for p in fem_pressures if p not in args.pressure]
+    if args.fem and unknown:
+        raise CommandError(f"--fem-pressure {unknown[0]:g} is not one of --pressure "
+                           f"{' '.join(f'{p:g}' for p in args.pressure)}")
+    fem = None
+    if args.fem:
+        step = args.fem_step or (QUICK_FEM_STEP if args.quick else FULL_FEM_STEP)
+        fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
+                         kinematics=args.fem_kinematics,
+                         limit_states=tuple(dict.fromkeys(args.limit_state)))
+    settings = Settings(
+        pressures=tuple(p * 1e6 for p in args.pressure), criteria=tuple(criteria),
+        stop=args.stop * G, search=args.search, fem=fem,
+        fem_pressures=tuple(p * 1e6 for p in fem_pressures),
+        fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
+        rims=tuple(dict.fromkeys(["rigid", *args.rims])),
+        yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
+        bearing=tuple((field, getattr(args, field) / 1e3) for field in ("rim_thickness",
+                      "rim_height") if getattr(args, field) is not None),
+    )
+    for pressure in settings.pressures:  # a variant that is no bearing fails here, in one line
+        try:
+            settings.bearing_at(pressure)
+        except ValueError as exc:
+            raise CommandError(str(exc)) from None
+    print(f"validation: {len(motions)} records ({label}), pressures "
+          f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
+    start = time.perf_counter()
+    progress = None if args.progress else False
+    results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
+                                          workers=args.workers, progress=progress)
+    for pressure, res in results.items():
+        failed = sum(a.sa is not None for a in res.actual)
+        numerical = [a for a in res.actual if a.numerical_failures]
+        uncertain = [a.name for a in res.actual if a.uncertain]
+        line = (f"  {pressure / 1e6:g} MPa: {failed}/{len(res.actual)} records fail below "
+                f"{settings.stop / G:g} g")
+        if numerical:
+            line += (f"; {len(numerical)} with numerical rungs (neither failures nor "
+                     f"survivals), {len(uncertain)} of them uncertain")
+        print(line)
+        if uncertain:
+            warnings.warn(f"at {pressure / 1e6:g} MPa the critical SA of "
+                          f"{len(uncertain)} record(s) depends on numerical rungs: "
+                          f"{', '.join(uncertain[:5])}{' …' if len(uncertain) > 5 else ''} "
+                          "(flagged in the report)", stacklevel=1)
+    for pressure, found in fem_results.items():
+        for r in found:
+            sa = ("no failure" if r.sa is None else
+                  f"{r.sa / G:.2f} g ({r.failure_mode or 'the run there ended numerically'})")
+            rigid_sa = "none" if r.rigid_sa is None else f"{r.rigid_sa / G:.2f} g"
+            flag = f", {r.numerical_runs} numerical" if r.numerical_runs else ""
+            flag += ", UNCERTAIN" if r.uncertain else ""
+            print(f"  FE {pressure / 1e6:g} MPa {r.name} ({r.limit_state}): critical SA {sa}; "
+                  f"rigid {rigid_sa}; {r.runs} FE runs{flag}")
+    path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
+                        title="DFP bearing failure: validation run", record_set=label,
+                        fem=fem_results)
+    print(f"report: {path}")
+    return 0
+
+
+def _rim_options(args, bearing) -> dict:
+    """The rim model, limit state and (yielding rims) rim law of :func:`rigid.simulate` from
+    the arguments; the law from the FE companion's rim push (:func:`fem.rim_law`, cached)."""
+    if args.rims == "rigid" and args.limit_state not in (None, "containment"):
+        raise CommandError(f"--limit-state {args.limit_state} needs --rims yielding (rigid "
+                           "rims cannot yield)")
+    limit_state = check_limit_state(args.limit_state, rims=args.rims)
+    options = {"rims": args.rims, "limit_state": limit_state}
+    if args.rims == "yielding":
+        from fem import rim_law
+
+        options["rim_law"] = rim_law(bearing)
+    return options
