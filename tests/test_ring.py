@@ -100,9 +100,9 @@ def test_strip_against_the_production_2d_push():
 
 
 def test_mesh_volume_is_the_swept_section():
-    """The half ring's volume is the section's area times π times its centroid's radius
-    (Pappus) within the faceting of the sweep: the chord of a 15° layer shortens the circle by
-    0.3 %, so 0.5 % bounds it."""
+    """The half ring's volume against the section's area times π times its centroid's radius
+    (Pappus): the sweep's straight-edged layers are inscribed in the ring, so the volume is
+    smaller, by less than a layer of the widest angle Δ loses, 1 − sin Δ/Δ (1.1 % at 15°)."""
     mesh = ring_mesh(BEARING, sizes=TINY)
     sk = mesh.skfem()
     from skfem import Basis, ElementHex1
@@ -111,7 +111,9 @@ def test_mesh_volume_is_the_swept_section():
     r, z = mesh.section_points[:, mesh.section_quads]
     area = 0.5 * ((r * np.roll(z, -1, 0)).sum(0) - (z * np.roll(r, -1, 0)).sum(0))
     centroid = ((r.mean(0)) * area).sum() / area.sum()  # quads are near-parallelograms
-    assert volume == pytest.approx(area.sum() * math.pi * centroid, rel=5e-3)
+    exact = area.sum() * math.pi * centroid
+    widest = np.diff(mesh.angles).max()
+    assert 0 < 1 - volume / exact < 1 - math.sin(widest) / widest
 
 
 @pytest.mark.parametrize("kwargs, message", [

@@ -58,10 +58,10 @@ def quadratic_nodes(mesh: RingMesh):
 
 def write_deck(path, mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
                increments: int = 50) -> None:
-    """Write the push of ``mesh`` by ``load`` (a patch or the strip; CalculiX gets no contact)
+    """Write the push of ``mesh`` by ``load`` (a punch or the strip; CalculiX gets no contact)
     to ``delta`` [m] as ``path`` (.inp) [m, N, Pa]."""
-    if load.kind == "cylinder":
-        raise ValueError("the CalculiX deck has punch loads only (patch or strip)")
+    if load.kind not in ("punch", "strip"):
+        raise ValueError("the CalculiX deck has the punch loads only (punch or strip)")
     if mesh.sweep not in ("half", "slab") or not mesh.plate:
         raise ValueError("the CalculiX deck is written for the half ring or the slab, with "
                          "the plate")
@@ -76,7 +76,7 @@ def write_deck(path, mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool =
     # the pushed face: corner nodes on it, and the mid-points of edges joining two of them
     corners = np.zeros(mesh.points.shape[1], bool)
     on = (np.abs(radius[:corners.size] - r1) < 1e-9 * r1) & (x[2, :corners.size] > zmid - tol)
-    if load.kind == "patch":
+    if load.kind == "punch":
         theta = np.arctan2(x[1, :corners.size], x[0, :corners.size])
         on &= np.abs(theta) <= 0.5 * load.width / r1 + 1e-9
     corners[on] = True
@@ -129,7 +129,9 @@ def run_ccx(mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
 
     Parameters
     ----------
-    mesh, load : the push's mesh and load (patch or strip)
+    mesh : RingMesh
+    load : Load
+        A punch or the strip.
     delta : float [m]
         Final punch displacement.
     nlgeom : bool

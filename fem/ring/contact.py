@@ -38,8 +38,8 @@ class CylinderContact:
         self.radius = float(radius)
         self.penalty = float(penalty)
         fb = FacetBasis(solid.mesh, solid.basis.elem, facets=facets, intorder=5)
-        self.N = np.array([phi[0].value for phi in fb.basis])  # (60, 3, nfacets, nqp)
-        self.X = np.asarray(fb.global_coordinates().value)  # (3, nfacets, nqp)
+        self.N = np.array([np.asarray(phi[0]) for phi in fb.basis])  # (60, 3, nfacets, nqp)
+        self.X = np.asarray(fb.global_coordinates())  # (3, nfacets, nqp)
         self.weights = np.asarray(fb.dx)
         self.dofs = np.asarray(fb.element_dofs)
         zmin, zmax = z_range

@@ -139,7 +139,7 @@ class RingPush:
 def _gauge_operator(solid, elements, radius):
     """Row-normalised average over balls of the given radius [m] of the rim's Gauss points
     (Eq. F52 in 3-D): ``op @ field[elements].ravel()``."""
-    x = np.asarray(solid.basis.global_coordinates().value)[:, elements].reshape(3, -1)
+    x = np.asarray(solid.basis.global_coordinates())[:, elements].reshape(3, -1)
     w = solid.weights[elements].ravel()
     rows, cols = [], []
     for i in range(x.shape[1]):
@@ -191,8 +191,8 @@ def _unit_pressure(solid, facets, kind: str) -> _Pressure:
     from skfem import FacetBasis
 
     fb = FacetBasis(solid.mesh, solid.basis.elem, facets=facets, intorder=5)
-    N = np.array([phi[0].value for phi in fb.basis])  # (60, 3, nf, nq)
-    X = np.asarray(fb.global_coordinates().value)
+    N = np.array([np.asarray(phi[0]) for phi in fb.basis])  # (60, 3, nf, nq)
+    X = np.asarray(fb.global_coordinates())
     zero = np.zeros_like(X[0])
     if kind == "ring":
         rho = np.hypot(X[0], X[1])
