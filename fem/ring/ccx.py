@@ -56,10 +56,10 @@ def quadratic_nodes(mesh: RingMesh):
     return np.concatenate([mesh.points, mids], axis=1), conn
 
 
-def write_deck(path, mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
-               increments: int = 50) -> None:
+def write_deck(path, mesh: RingMesh, load: Load, steps, *, nlgeom: bool = False) -> None:
     """Write the push of ``mesh`` by ``load`` (a punch or the strip; CalculiX gets no contact)
-    to ``delta`` [m] as ``path`` (.inp) [m, N, Pa]."""
+    as ``path`` (.inp) [m, N, Pa]: one CalculiX step per ``(delta [m], increments)`` of
+    ``steps``, each ramping the punch linearly to its δ in equal increments."""
     if load.kind not in ("punch", "strip"):
         raise ValueError("the CalculiX deck has the punch loads only (punch or strip)")
     if mesh.sweep not in ("half", "slab") or not mesh.plate:
@@ -88,7 +88,6 @@ def write_deck(path, mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool =
     E, nu = b.youngs_modulus, b.poisson_ratio
     H = E * b.hardening_ratio / (1 - b.hardening_ratio)
     p_u = (b.ultimate_stress - b.yield_stress) / H
-    dt = 1.0 / increments
     text = ["*HEADING", f"rim push ({mesh.kind}, {load.label}) written by fem.ring.ccx", "*NODE"]
     text += [f"{i + 1}, {_num(a)}, {_num(c)}, {_num(d)}" for i, (a, c, d) in enumerate(x.T)]
     text.append("*ELEMENT, TYPE=C3D20R, ELSET=EALL")
@@ -102,12 +101,15 @@ def write_deck(path, mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool =
              "*MATERIAL, NAME=STEEL", "*ELASTIC", f"{_num(E)}, {_num(nu)}", "*PLASTIC",
              f"{_num(b.yield_stress)}, 0.0", f"{_num(b.ultimate_stress)}, {_num(p_u)}",
              "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL",
-             "*BOUNDARY", "NBOTTOM, 1, 3, 0.0", "NSYM, 2, 2, 0.0",
-             f"*STEP{', NLGEOM' if nlgeom else ''}, INC=10000", "*STATIC",
-             f"{_num(dt)}, 1.0, {_num(dt * 1e-4)}, {_num(dt)}",
-             "*BOUNDARY", f"NPUSH, 1, 1, {_num(delta)}",
-             "*NODE PRINT, NSET=NPUSH, TOTALS=ONLY", "RF",
-             "*EL PRINT, ELSET=EHINGE", "PEEQ", "*END STEP", ""]
+             "*BOUNDARY", "NBOTTOM, 1, 3, 0.0", "NSYM, 2, 2, 0.0"]
+    for delta, increments in steps:
+        dt = 1.0 / increments
+        text += [f"*STEP{', NLGEOM' if nlgeom else ''}, INC=10000", "*STATIC",
+                 f"{_num(dt)}, 1.0, {_num(dt * 1e-4)}, {_num(dt)}",
+                 "*BOUNDARY", f"NPUSH, 1, 1, {_num(delta)}",
+                 "*NODE PRINT, NSET=NPUSH, TOTALS=ONLY", "RF",
+                 "*EL PRINT, ELSET=EHINGE", "PEEQ", "*END STEP"]
+    text.append("")
     Path(path).write_text("\n".join(text))
 
 
@@ -123,8 +125,8 @@ class CcxPush:
     cpu_time: float
 
 
-def run_ccx(mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
-            increments: int = 50, workdir=None, threads: int = 1) -> CcxPush:
+def run_ccx(mesh: RingMesh, load: Load, steps, *, nlgeom: bool = False, workdir=None,
+            threads: int = 1) -> CcxPush:
     """Write the deck (:func:`write_deck`), run ``ccx`` and read its results.
 
     Parameters
@@ -132,12 +134,11 @@ def run_ccx(mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
     mesh : RingMesh
     load : Load
         A punch or the strip.
-    delta : float [m]
-        Final punch displacement.
+    steps : sequence of (float [m], int)
+        The punch's displacement at the end of each step and the step's equal increments
+        (CalculiX may cut them back).
     nlgeom : bool
         Geometric nonlinearity (CalculiX's finite-strain plasticity).
-    increments : int
-        Equal increments of the step (CalculiX may cut them back).
     workdir : path-like, optional
         Where the deck and results go; default a temporary folder, removed after.
     threads : int
@@ -150,7 +151,7 @@ def run_ccx(mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
     folder = Path(workdir if workdir is not None else tmp.name)
     folder.mkdir(parents=True, exist_ok=True)
     try:
-        write_deck(folder / "push.inp", mesh, load, delta, nlgeom=nlgeom, increments=increments)
+        write_deck(folder / "push.inp", mesh, load, steps, nlgeom=nlgeom)
         env = dict(os.environ, OMP_NUM_THREADS=str(threads), CCX_NPROC_EQUATION_SOLVER=str(threads))
         before = os.times()
         proc = subprocess.run(["ccx", "-i", "push"], cwd=folder, env=env, capture_output=True,
@@ -165,7 +166,10 @@ def run_ccx(mesh: RingMesh, load: Load, delta: float, *, nlgeom: bool = False,
         if tmp is not None:
             tmp.cleanup()
     scale = _force_scale(mesh)
-    return CcxPush(np.concatenate([[0.0], times * delta]),
+    # the total time runs 0 → 1 in the first step, 1 → 2 in the second, …
+    ends = np.concatenate([[0.0], [d for d, _ in steps]])
+    displacement = np.interp(times, np.arange(ends.size), ends)
+    return CcxPush(np.concatenate([[0.0], displacement]),
                    np.concatenate([[0.0], forces * scale]), np.concatenate([[0.0], yielded]),
                    (after.children_user + after.children_system)
                    - (before.children_user + before.children_system))
