@@ -15,8 +15,8 @@ Needs the ``fem`` extra (scikit-fem, gmsh, meshio); ``pypardiso`` (the ``fast`` 
 the factorisations several times faster.
 """
 
-from .mesh import COARSE, DEFAULT, FINE, MeshSizes, RingMesh, ring_mesh
+from .mesh import COARSE, DEFAULT, FINE, MESHES, MeshSizes, RingMesh, ring_mesh
 from .push import Load, RingPush, load_patch_widths, ring_push
 
-__all__ = ["COARSE", "DEFAULT", "FINE", "Load", "MeshSizes", "RingMesh", "RingPush",
+__all__ = ["COARSE", "DEFAULT", "FINE", "MESHES", "Load", "MeshSizes", "RingMesh", "RingPush",
            "load_patch_widths", "ring_mesh", "ring_push"]

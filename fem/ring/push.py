@@ -241,12 +241,9 @@ class _Problem:
             fixed_y = basis.get_dofs(_facets_on(sk, lambda x: np.abs(x[1]) < tol)).all(["u^2"])
         if mesh.sweep == "quarter":  # the plane normal to the push: symmetry
             fixed_x = basis.get_dofs(_facets_on(sk, lambda x: np.abs(x[0]) < tol)).all(["u^1"])
+        half = 0.5 * load.width / r1 + 1e-9 if load.patch else math.inf
         face = _facets_on(sk, lambda x: (np.abs(_radius(x, mesh.kind) - r1) < 1e-9 * r1)
-                          & (x[2] > z_low - tol))
-        if load.patch:
-            half = 0.5 * load.width / r1 + 1e-9
-            mids = sk.p[:, sk.facets[:, face]].mean(axis=1)
-            face = face[np.abs(np.arctan2(mids[1], mids[0])) < half]
+                          & (x[2] > z_low - tol) & (np.abs(np.arctan2(x[1], x[0])) <= half))
         self.contact = self.pressure = None
         self.pushed = empty
         if load.kind == "cylinder":
@@ -282,12 +279,14 @@ class _Problem:
             force = float(r[self.pushed].sum())
         return r, tangent, trial, plastic, stress, force
 
-    def newton(self, u, delta, state):
-        """One increment to ``delta`` [m] from the converged ``u``: the prescribed increment
-        enters the first iteration through the converged tangent (K_ff Δu_f = −r_f − K_fc Δu_c);
-        a pressure's magnitude is the extra unknown of a bordered system (its patch's mean
-        radial displacement = δ). Returns (converged, u, state, plastic, stress, force)."""
-        u = u.copy()
+    def newton(self, u, delta, state, guess=None):
+        """One increment to ``delta`` [m] from the converged ``u``. The first iterate is
+        ``guess`` (the last increment's displacements extrapolated) where given; else the
+        prescribed increment enters the first iteration through the converged tangent
+        (K_ff Δu_f = −r_f − K_fc Δu_c). A pressure's magnitude is the extra unknown of a
+        bordered system (its patch's mean radial displacement = δ). Returns (converged, u,
+        state, plastic, stress, force)."""
+        u = u.copy() if guess is None else guess.copy()
         du_fixed = np.zeros(self.fixed.size)
         if self.pushed.size:
             du_fixed = np.where(np.isin(self.fixed, self.pushed), delta, 0.0) - u[self.fixed]
@@ -312,7 +311,7 @@ class _Problem:
             if self.contact is not None:
                 K = K + self.contact.stiffness(u, self.centre0 + delta)
             Kff = K[self.free][:, self.free]
-            if it == 0 and self.pushed.size:
+            if it == 0 and self.pushed.size and guess is None:
                 rf = rf + K[self.free][:, self.fixed] @ du_fixed
                 u[self.fixed] += du_fixed
             if p is None:
@@ -379,13 +378,18 @@ def ring_push(bearing: DFPBearing, load: Load = Load("cylinder"), *,
     out = {k: [0.0] for k in ("d", "f", "p", "avg", "root")}
     first_yield, q_last = math.nan, 0.0
     hinge = (math.nan, math.nan)
-    delta, increments = 0.0, 0
+    delta, increments, previous = 0.0, 0, None
     while delta < delta_end * (1 - 1e-12):
         fine = delta < FINE_REACH * (1 - 1e-9)
         target = min(delta + (FINE_STEP if fine else COARSE_STEP), delta_end,
                      FINE_REACH if fine else delta_end)
         while True:
-            ok, u_new, trial, plastic, stress, force = pb.newton(u, target, state)
+            guess = None
+            if previous is not None:  # extrapolate the last increment's displacements
+                guess = u + (u - previous[1]) * (target - delta) / (delta - previous[0])
+            ok, u_new, trial, plastic, stress, force = pb.newton(u, target, state, guess)
+            if not ok and guess is not None:  # then the tangent predictor
+                ok, u_new, trial, plastic, stress, force = pb.newton(u, target, state)
             if ok:
                 break
             if target - delta < 1e-4 * FINE_STEP:
@@ -401,6 +405,7 @@ def ring_push(bearing: DFPBearing, load: Load = Load("cylinder"), *,
             first_yield = out["f"][-1] * bearing.yield_stress / q_last
         if not section_plastic:
             q_last = float(von_mises_6(stress[:, pb.hinge_section]).max())
+        previous = (delta, u)
         delta, u, state = target, u_new, trial
         p = state.eq_plastic_strain
         frac = float((p[pb.hinge_section] > 0).mean())

@@ -97,16 +97,8 @@ def ccx_task(thickness_mm: float, height_mm: float, slider_m: float, kind: str,
 
 def cases(only: str | None = None) -> list[dict]:
     """Every push of the study: model, geometry, load and mesh."""
-    out = []
     base = dict(thickness_mm=40, height_mm=35, slider_m=0.4)
-    for t in THICKNESSES_MM:
-        for h in HEIGHTS_MM:
-            for b in SLIDERS_M:
-                if only == "baseline" and (t, h, b) != (40, 35, 0.4):
-                    continue
-                geometry = dict(thickness_mm=t, height_mm=h, slider_m=b)
-                for kind in ("strip", "cylinder"):
-                    out.append(dict(geometry, kind=kind, width_m=0.0, mesh="default"))
+    out = [dict(base, kind=kind, width_m=0.0, mesh="default") for kind in ("strip", "cylinder")]
     b = base["slider_m"]
     for kind in ("punch", "pressure"):
         for w in (b / 4, math.pi * b / 4, b):
@@ -114,10 +106,18 @@ def cases(only: str | None = None) -> list[dict]:
     for mesh in ("coarse", "fine"):
         for kind, w in (("strip", 0.0), ("cylinder", 0.0), ("punch", math.pi * b / 4)):
             out.append(dict(base, kind=kind, width_m=w, mesh=mesh))
+    if only != "baseline":
+        for t in THICKNESSES_MM:
+            for h in HEIGHTS_MM:
+                for b in SLIDERS_M:
+                    if (t, h, b) != (40, 35, 0.4):
+                        out += [dict(thickness_mm=t, height_mm=h, slider_m=b, kind=kind,
+                                     width_m=0.0, mesh="default")
+                                for kind in ("strip", "cylinder")]
     out = [dict(c, model="ours") for c in out]
     if ccx_available():
         for model in ("ccx", "ccx-nlgeom"):
-            for kind, w in (("strip", 0.0), ("punch", math.pi * b / 4)):
+            for kind, w in (("strip", 0.0), ("punch", math.pi * base["slider_m"] / 4)):
                 out.append(dict(base, kind=kind, width_m=w, mesh="default", model=model))
     else:
         print("CalculiX (ccx) is not on the PATH: its pushes are left out")
