@@ -35,7 +35,11 @@ FOLDER = DOCS / "rim-3d"
 THICKNESSES_MM = (40, 80, 160, 320)
 HEIGHTS_MM = (35, 70)
 SLIDERS_M = (0.4, 0.6)
-MESHES = ("coarse", "default", "fine")
+#: The meshes of the convergence check: fem.ring's coarse and default, and a finer one made
+#: here (6 elements across the rim and up its height, 6.7 mm arcs; the plate strip as the
+#: default's: the rim's section and arc are what the hinge and contact resolve).
+STUDY_MESHES = {"coarse": (2, 2, 2, 2, 0.020, 1.6), "default": (4, 4, 4, 4, 0.010, 1.3),
+                "fine": (6, 6, 4, 4, 0.010 / 1.5, 1.3 ** (1 / 1.5))}
 COLUMNS = ("model", "load", "mesh", "rim_thickness_mm", "rim_height_mm", "slider_diameter_m",
            "first_yield_mn", "hinge_mn", "rupture_mn", "limit_mn", "d_eff_first_yield_m",
            "d_eff_hinge_m", "d_eff_rupture_m", "d_eff_limit_m", "hinge_displacement_mm",
@@ -51,36 +55,45 @@ def bearing_for(thickness_mm: float, height_mm: float, slider_m: float):
                                rim_height=height_mm / 1e3, slider_diameter=slider_m)
 
 
+def mesh_for(bearing, kind: str, sizes: tuple):
+    """The push's mesh: the strip's slab, the patch loads' ring with layer edges on the three
+    patches' edges (b/4, πb/4, b), the cylinder's with 10 mm layers to b/4 either side."""
+    from fem.ring import MeshSizes, load_patch_widths, ring_mesh
+
+    if kind == "strip":
+        return ring_mesh(bearing, sizes=MeshSizes(*sizes), kind="slab")
+    widths = (load_patch_widths(bearing) if kind in ("punch", "pressure")
+              else (0.5 * bearing.slider_diameter,))
+    return ring_mesh(bearing, sizes=MeshSizes(*sizes), patch_widths=widths)
+
+
 def push_task(thickness_mm: float, height_mm: float, slider_m: float, kind: str,
-              width_m: float, mesh: str) -> dict:
+              width_m: float, mesh: str, sizes: tuple) -> dict:
     """One push (the task's function): its points and curve as JSON [N, m; the strip per m]."""
-    from fem.ring import MESHES as SIZES
-    from fem.ring import Load, load_patch_widths, ring_push
+    from fem.ring import Load, ring_push
 
     bearing = bearing_for(thickness_mm, height_mm, slider_m)
-    load = Load(kind, width_m)
-    push = ring_push(bearing, load, sizes=SIZES[mesh], patch_widths=load_patch_widths(bearing))
+    push = ring_push(bearing, Load(kind, width_m), mesh=mesh_for(bearing, kind, sizes))
     return {
         "first_yield": push.first_yield_force, "hinge": push.hinge_force,
         "rupture": push.rupture_force, "limit": push.limit_force,
         "hinge_displacement": push.hinge_displacement,
         "rupture_displacement": push.rupture_displacement, "plastic_arc": push.plastic_arc,
-        "dofs": push.dofs, "increments": push.increments, "cpu": push.cpu_time,
+        "dofs": int(push.dofs), "increments": int(push.increments),
+        "cpu": float(push.cpu_time), "wall": float(push.wall_time),
         "displacement": push.displacement.tolist(), "force": push.force.tolist(),
     }
 
 
 def ccx_task(thickness_mm: float, height_mm: float, slider_m: float, kind: str,
-             width_m: float, mesh: str, nlgeom: bool) -> dict:
+             width_m: float, mesh: str, sizes: tuple, nlgeom: bool) -> dict:
     """The same push by CalculiX (a punch or the strip; :func:`fem.ring.ccx.run_ccx`), in the
     increments of ours: 0.05 mm to 2 mm, then 0.5 mm."""
-    from fem.ring import MESHES as SIZES
-    from fem.ring import Load, load_patch_widths, ring_mesh
-    from fem.ring.ccx import run_ccx
+    from fem.ring import Load
+    from fem.ring.ccx import quadratic_nodes, run_ccx
 
     bearing = bearing_for(thickness_mm, height_mm, slider_m)
-    grid = ring_mesh(bearing, sizes=SIZES[mesh], kind="slab" if kind == "strip" else "ring",
-                     patch_widths=load_patch_widths(bearing))
+    grid = mesh_for(bearing, kind, sizes)
     end = 0.5 * bearing.rim_height
     push = run_ccx(grid, Load(kind, width_m), [(2e-3, 40), (end, round((end - 2e-3) / 5e-4))],
                    nlgeom=nlgeom)
@@ -89,38 +102,40 @@ def ccx_task(thickness_mm: float, height_mm: float, slider_m: float, kind: str,
         "first_yield": math.nan, "rupture": math.nan, "rupture_displacement": math.nan,
         "hinge": float(push.force[whole[0]]) if whole.size else math.nan,
         "hinge_displacement": float(push.displacement[whole[0]]) if whole.size else math.nan,
-        "limit": float(push.force.max()), "plastic_arc": math.nan, "dofs": 3 * grid.points.shape[1],
-        "increments": int(push.displacement.size - 1), "cpu": push.cpu_time,
+        "limit": float(push.force.max()), "plastic_arc": math.nan,
+        "dofs": int(3 * quadratic_nodes(grid)[0].shape[1]),
+        "increments": int(push.displacement.size - 1),
+        "cpu": float(push.cpu_time), "wall": math.nan,
         "displacement": push.displacement.tolist(), "force": push.force.tolist(),
     }
 
 
 def cases(only: str | None = None) -> list[dict]:
-    """Every push of the study: model, geometry, load and mesh."""
-    base = dict(thickness_mm=40, height_mm=35, slider_m=0.4)
-    out = [dict(base, kind=kind, width_m=0.0, mesh="default") for kind in ("strip", "cylinder")]
-    b = base["slider_m"]
-    for kind in ("punch", "pressure"):
-        for w in (b / 4, math.pi * b / 4, b):
-            out.append(dict(base, kind=kind, width_m=w, mesh="default"))
-    for mesh in ("coarse", "fine"):
-        for kind, w in (("strip", 0.0), ("cylinder", 0.0), ("punch", math.pi * b / 4)):
-            out.append(dict(base, kind=kind, width_m=w, mesh=mesh))
+    """Every push of the study (model, geometry, load, mesh), the most telling first: the
+    baseline rim under the cylinder, CalculiX's checks, the patches, the other rims, the
+    meshes."""
+    b = 0.4
+    base = dict(thickness_mm=40, height_mm=35, slider_m=b, model="ours")
+
+    def case(kind, width=0.0, mesh="default", **kw):
+        return dict(base, kind=kind, width_m=width, mesh=mesh, sizes=STUDY_MESHES[mesh], **kw)
+
+    out = [case("strip"), case("cylinder")]
+    if ccx_available():
+        out += [case(kind, w, model=model) for model in ("ccx", "ccx-nlgeom")
+                for kind, w in (("strip", 0.0), ("punch", math.pi * b / 4))]
+    else:
+        print("CalculiX (ccx) is not on the PATH: its pushes are left out")
+    out += [case(kind, w) for kind in ("punch", "pressure")
+            for w in (b / 4, math.pi * b / 4, b)]
     if only != "baseline":
         for t in THICKNESSES_MM:
             for h in HEIGHTS_MM:
-                for b in SLIDERS_M:
-                    if (t, h, b) != (40, 35, 0.4):
-                        out += [dict(thickness_mm=t, height_mm=h, slider_m=b, kind=kind,
-                                     width_m=0.0, mesh="default")
+                for slider in SLIDERS_M:
+                    if (t, h, slider) != (40, 35, b):
+                        out += [dict(case(kind), thickness_mm=t, height_mm=h, slider_m=slider)
                                 for kind in ("strip", "cylinder")]
-    out = [dict(c, model="ours") for c in out]
-    if ccx_available():
-        for model in ("ccx", "ccx-nlgeom"):
-            for kind, w in (("strip", 0.0), ("punch", math.pi * base["slider_m"] / 4)):
-                out.append(dict(base, kind=kind, width_m=w, mesh="default", model=model))
-    else:
-        print("CalculiX (ccx) is not on the PATH: its pushes are left out")
+    out += [case(kind, mesh=mesh) for mesh in ("coarse", "fine") for kind in ("strip", "cylinder")]
     return out
 
 
@@ -160,7 +175,7 @@ def rows(results: dict) -> tuple[list[dict], list[dict]]:
         depth = math.pi * b / 4  # today's out-of-plane depth (Eq. F1)
         label = kind if kind in ("strip", "cylinder") else f"{kind} {width * 1e3:.0f} mm"
         name = "2d" if kind == "strip" else "3d"
-        row = {"model": name if model == "ours" else f"{model.replace('ccx', 'ccx-' + name)}",
+        row = {"model": name if model == "ours" else model.replace("ccx", "ccx-" + name),
                "load": label, "mesh": mesh,
                "rim_thickness_mm": t, "rim_height_mm": h, "slider_diameter_m": b,
                "dofs": r["dofs"], "increments": r["increments"], "cpu_s": round(r["cpu"], 1),

@@ -1,0 +1,113 @@
+"""Figures of the rim-as-a-ring study (:mod:`validation.studies.rim3d`), from its CSVs:
+``docs/rim-3d/pushes.png`` — the baseline rim's force against displacement under every load,
+the plane-strain strip at today's depth πb/4 beside them, CalculiX's pushes as markers — and
+``docs/rim-3d/effective_depth.png`` — d_eff at the hinge and at the limit load against the rim
+thickness, per rim height and slider, with πb/4.
+
+Run (seconds)::
+
+    python -m validation.studies.rim3d_figures
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+from pathlib import Path
+
+from .rim3d import FOLDER
+
+
+def _read(path: Path) -> list[dict]:
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _float(x: str) -> float:
+    return float(x) if x not in ("", "nan") else math.nan
+
+
+def pushes_figure(curves: list[dict], out: Path) -> None:
+    """Force–displacement of the baseline rim (40 × 35 mm, b = 0.4 m, default mesh)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    base = [c for c in curves if c["mesh"] == "default" and c["rim_thickness_mm"] == "40"
+            and c["rim_height_mm"] == "35" and _float(c["slider_diameter_m"]) == 0.4]
+    series: dict[tuple, list] = {}
+    for c in base:
+        series.setdefault((c["model"], c["load"]), []).append(
+            (_float(c["displacement_mm"]), _float(c["force_mn"])))
+    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
+    styles = {"cylinder": ("k", "-", 2.2)}
+    for (model, load), pts in sorted(series.items()):
+        d, f = zip(*pts, strict=True)
+        if model.startswith("ccx"):
+            ax.plot(d[::4], f[::4], "x" if "nlgeom" in model else "+", ms=6,
+                    label=f"CalculiX{' NLGEOM' if 'nlgeom' in model else ''}: {load}")
+            continue
+        if model == "2d":
+            ax.plot(d, f, color="tab:red", lw=2.2, ls="--",
+                    label="plane strain × πb/4 (today's model)")
+            continue
+        color, ls, lw = styles.get(load, (None, "-" if load.startswith("punch") else ":", 1.4))
+        ax.plot(d, f, color=color, ls=ls, lw=lw, label=f"3-D ring: {load}")
+    ax.set_xlabel("push δ [mm]")
+    ax.set_ylabel("rim force [MN]")
+    ax.set_title("Baseline rim (40 × 35 mm, b = 0.4 m): 3-D ring against the plane-strain rim")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncol=2)
+    fig.savefig(out, dpi=130)
+    plt.close(fig)
+
+
+def depth_figure(table: list[dict], out: Path) -> None:
+    """d_eff (cylinder) at the hinge and the limit against rim thickness."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = [r for r in table if r["model"] == "3d" and r["load"] == "cylinder"
+            and r["mesh"] == "default"]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True, constrained_layout=True)
+    for ax, point, title in ((axes[0], "hinge", "at the hinge"),
+                             (axes[1], "limit", "at the limit load")):
+        groups: dict[tuple, list] = {}
+        for r in rows:
+            groups.setdefault((r["rim_height_mm"], r["slider_diameter_m"]), []).append(
+                (_float(r["rim_thickness_mm"]), _float(r[f"d_eff_{point}_m"])))
+        for (h, b), pts in sorted(groups.items()):
+            pts.sort()
+            t, d = zip(*pts, strict=True)
+            ax.plot(t, d, "o-", label=f"h_r = {h} mm, b = {b} m")
+        for b, ls in ((0.4, "--"), (0.6, ":")):
+            ax.axhline(math.pi * b / 4, color="grey", ls=ls, lw=1, label=f"πb/4, b = {b} m")
+        ax.set_xscale("log", base=2)
+        ax.set_xticks([40, 80, 160, 320], ["40", "80", "160", "320"])
+        ax.set_xlabel("rim thickness t_r [mm]")
+        ax.set_title(f"slider as a rigid cylinder: d_eff {title}")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("effective depth d_eff = F_3D / f_2D [m]")
+    axes[1].legend(fontsize=8)
+    fig.savefig(out, dpi=130)
+    plt.close(fig)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--folder", default=str(FOLDER))
+    args = ap.parse_args()
+    folder = Path(args.folder)
+    pushes_figure(_read(folder / "curves.csv"), folder / "pushes.png")
+    depth_figure(_read(folder / "pushes.csv"), folder / "effective_depth.png")
+    print(f"wrote {folder / 'pushes.png'} and {folder / 'effective_depth.png'}")
+
+
+if __name__ == "__main__":
+    main()
