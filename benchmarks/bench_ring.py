@@ -1,15 +1,17 @@
 """Speed and memory of the 3-D rim push (fem.ring.ring_push) against CalculiX on the same mesh.
 
-1. The baseline rim (40 × 35 mm, b = 0.4 m) pushed to half its height on the default 3-D mesh:
-   the slider as a rigid cylinder, and the πb/4 punch; CPU and wall time, increments,
+1. The baseline rim (40 × 35 mm, b = 0.4 m) pushed to half its height on the default 3-D mesh
+   (``--mesh coarse`` for a quick look): the πb/4 punch, and with ``--cylinder`` the slider as
+   a rigid cylinder (about 30 min of CPU on the default mesh); CPU and wall time, increments,
    factorisations, dofs and the process's peak memory.
 2. The same punch push by CalculiX (``ccx``, C3D20R, small strain, the same increments): CPU
    time of the ccx process (skipped where ccx is absent).
 3. The factorisation alone (one tangent of the default mesh): PARDISO's Cholesky against
    SciPy's SuperLU (median of ``--repeat``).
 
-Run: ``OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/bench_ring.py [--repeat N]``
-(about 10 minutes on an idle core). Prints the machine's load before and after.
+Run: ``OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/bench_ring.py [--repeat N]
+[--mesh coarse] [--cylinder]`` (about 10 minutes on an idle core without ``--cylinder``).
+Prints the machine's load before and after.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ import time
 
 import numpy as np
 
-from fem.ring import DEFAULT, Load, load_patch_widths, ring_mesh, ring_push
+from fem.ring import COARSE, DEFAULT, Load, load_patch_widths, ring_mesh, ring_push
 from fem.ring.ccx import ccx_available, run_ccx
 from rigid import DFPBearing
 
@@ -34,11 +36,16 @@ def _peak_mb() -> float:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="repeats of the factorisation timing")
+    ap.add_argument("--mesh", choices=["coarse", "default"], default="default")
+    ap.add_argument("--cylinder", action="store_true", help="also push with the cylinder")
     args = ap.parse_args()
     print(f"load average before: {os.getloadavg()}")
     bearing = DFPBearing()
-    mesh = ring_mesh(bearing, sizes=DEFAULT, patch_widths=load_patch_widths(bearing))
-    for load in (Load("cylinder"), Load("punch", math.pi * bearing.slider_diameter / 4)):
+    sizes = COARSE if args.mesh == "coarse" else DEFAULT
+    mesh = ring_mesh(bearing, sizes=sizes, patch_widths=load_patch_widths(bearing))
+    loads = [Load("punch", math.pi * bearing.slider_diameter / 4)]
+    loads += [Load("cylinder")] if args.cylinder else []
+    for load in loads:
         push = ring_push(bearing, load, mesh=mesh)
         print(f"ours {load.label}: CPU {push.cpu_time:.1f} s, wall {push.wall_time:.1f} s, "
               f"{push.increments} increments, {push.factorizations} factorisations, "
@@ -53,17 +60,19 @@ def main() -> None:
     from fem.ring.push import _Problem
 
     pb = _Problem(mesh, Load("cylinder"), True)
-    r, tangent, _, plastic, _, _ = pb.residual(np.zeros(pb.solid.ndofs), 0.0, pb.state)
+    _, tangent, _, plastic, _, _ = pb.residual(np.zeros(pb.solid.ndofs), 0.0, pb.state)
     K = pb.solid.stiffness(tangent, plastic, pb.elastic)[pb.free][:, pb.free]
     backends = ["superlu"] + (["pardiso"] if default_backend() == "pardiso" else [])
+    b = np.ones(K.shape[0])
     for backend in backends:
-        times = []
-        for _ in range(args.repeat + 1):  # the first is the warm-up
-            solver = TangentSolver(backend)
+        solver, times = TangentSolver(backend), []
+        solver.solve(K, b)  # warm-up: the solver's set-up (PARDISO looks for MKL once)
+        for _ in range(args.repeat):
             t0 = time.process_time()
-            solver.solve(K, np.ones(K.shape[0]))
+            solver._factorize(K.tocsr())
+            solver._solve(b)
             times.append(time.process_time() - t0)
-        print(f"factorisation and solve, {backend}: median {np.median(times[1:]):.2f} s CPU "
+        print(f"factorisation and solve, {backend}: median {np.median(times):.2f} s CPU "
               f"({K.shape[0]} unknowns)")
     print(f"load average after: {os.getloadavg()}")
 

@@ -35,14 +35,16 @@ def pushes_figure(curves: list[dict], out: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    base = [c for c in curves if c["mesh"] == "default" and c["rim_thickness_mm"] == "40"
-            and c["rim_height_mm"] == "35" and _float(c["slider_diameter_m"]) == 0.4]
+    base = [c for c in curves if c["rim_thickness_mm"] == "40" and c["rim_height_mm"] == "35"
+            and _float(c["slider_diameter_m"]) == 0.4
+            and (c["mesh"] == "default" or (c["mesh"] == "coarse" and c["load"] == "cylinder"))]
     series: dict[tuple, list] = {}
     for c in base:
-        series.setdefault((c["model"], c["load"]), []).append(
+        load = c["load"] + (", coarse mesh" if c["mesh"] == "coarse" else "")
+        series.setdefault((c["model"], load), []).append(
             (_float(c["displacement_mm"]), _float(c["force_mn"])))
     fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
-    styles = {"cylinder": ("k", "-", 2.2)}
+    styles = {"cylinder": ("k", "-", 2.2), "cylinder, coarse mesh": ("k", "--", 1.4)}
     for (model, load), pts in sorted(series.items()):
         d, f = zip(*pts, strict=True)
         if model.startswith("ccx"):
@@ -67,34 +69,47 @@ def pushes_figure(curves: list[dict], out: Path) -> None:
 
 
 def depth_figure(table: list[dict], out: Path) -> None:
-    """d_eff (cylinder) at the hinge and the limit against rim thickness."""
+    """d_eff at the hinge and the limit against rim thickness: the slider (cylinder) on the
+    coarse mesh for every rim and on the default mesh where run, the πb/4 punch on the
+    default mesh."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    rows = [r for r in table if r["model"] == "3d" and r["load"] == "cylinder"
-            and r["mesh"] == "default"]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True, constrained_layout=True)
+    series = {("cylinder", "coarse"): ("o-", "slider (cylinder), coarse mesh"),
+              ("cylinder", "default"): ("*", "slider (cylinder), default mesh"),
+              ("punch", "default"): ("s--", "punch πb/4, default mesh")}
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), sharey=True, constrained_layout=True)
     for ax, point, title in ((axes[0], "hinge", "at the hinge"),
                              (axes[1], "limit", "at the limit load")):
         groups: dict[tuple, list] = {}
-        for r in rows:
-            groups.setdefault((r["rim_height_mm"], r["slider_diameter_m"]), []).append(
+        for r in table:
+            load = r["load"].split()[0]
+            if r["model"] != "3d" or (load, r["mesh"]) not in series:
+                continue
+            if load == "punch" and not r["load"].startswith("punch " + str(round(
+                    math.pi * _float(r["slider_diameter_m"]) / 4 * 1e3))):
+                continue
+            key = (load, r["mesh"], r["rim_height_mm"], r["slider_diameter_m"])
+            groups.setdefault(key, []).append(
                 (_float(r["rim_thickness_mm"]), _float(r[f"d_eff_{point}_m"])))
-        for (h, b), pts in sorted(groups.items()):
+        for i, ((load, mesh, h, b), pts) in enumerate(sorted(groups.items())):
             pts.sort()
             t, d = zip(*pts, strict=True)
-            ax.plot(t, d, "o-", label=f"h_r = {h} mm, b = {b} m")
+            marker, name = series[(load, mesh)]
+            ax.plot(t, d, marker, color=f"C{i % 10}", ms=9 if marker == "*" else 5,
+                    label=f"{name}: h_r = {h} mm, b = {b} m")
         for b, ls in ((0.4, "--"), (0.6, ":")):
             ax.axhline(math.pi * b / 4, color="grey", ls=ls, lw=1, label=f"πb/4, b = {b} m")
         ax.set_xscale("log", base=2)
+        ax.set_xlim(30, 400)
         ax.set_xticks([40, 80, 160, 320], ["40", "80", "160", "320"])
         ax.set_xlabel("rim thickness t_r [mm]")
-        ax.set_title(f"slider as a rigid cylinder: d_eff {title}")
+        ax.set_title(f"d_eff {title}")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("effective depth d_eff = F_3D / f_2D [m]")
-    axes[1].legend(fontsize=8)
+    axes[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.savefig(out, dpi=130)
     plt.close(fig)
 
