@@ -23,6 +23,8 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.rim_laws` — :func:`rim_law`, the yielding rims' law from pushes of the rim, the
   data :func:`rigid.simulate` takes with ``rims="yielding"`` (cached per rim geometry).
 * :mod:`fem.output` — VTU files and pictures (meshio, pyvista).
+* :mod:`fem.ring` — the rim as a ring: 3-D static pushes of the rim and the effective depth
+  of the plane-strain rim (imported on its own: ``from fem.ring import ring_push``).
 
 ``fem`` depends on ``rigid`` (the bearing, records, pulses, the rim law's data class), never
 the other way, and never on ``validation`` (docs/architecture.md).
