@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fem.ring import COARSE, DEFAULT
 from fem.ring.ccx import ccx_available
 
 from . import DOCS
@@ -37,10 +38,11 @@ FOLDER = DOCS / "rim-3d"
 #: thick rim.
 GEOMETRIES = ((40, 35, 0.4), (80, 35, 0.4), (160, 35, 0.4), (320, 35, 0.4),
               (40, 70, 0.4), (160, 70, 0.4), (40, 35, 0.6), (160, 35, 0.6))
-#: The meshes of the convergence check: fem.ring's coarse and default, and a finer one made
-#: here (6 elements across the rim and up its height, 6.7 mm arcs; the plate strip as the
-#: default's: the rim's section and arc are what the hinge and contact resolve).
-STUDY_MESHES = {"coarse": (2, 2, 2, 2, 0.020, 1.6), "default": (4, 4, 4, 4, 0.010, 1.3),
+#: The meshes of the convergence check (MeshSizes fields, which key the stored pushes):
+#: fem.ring's coarse and default, and a finer one made here (6 elements across the rim and up
+#: its height, 6.7 mm arcs; the plate strip as the default's: the rim's section and arc are
+#: what the hinge and contact resolve).
+STUDY_MESHES = {"coarse": dataclasses.astuple(COARSE), "default": dataclasses.astuple(DEFAULT),
                 "fine": (6, 6, 4, 4, 0.010 / 1.5, 1.3 ** (1 / 1.5))}
 COLUMNS = ("model", "load", "mesh", "rim_thickness_mm", "rim_height_mm", "slider_diameter_m",
            "first_yield_mn", "hinge_mn", "rupture_mn", "limit_mn", "d_eff_first_yield_m",
@@ -194,8 +196,8 @@ def run(only: str | None = None, workers: int | None = None, store_path=None,
     return {tuple(keyed[k][f] for f in ORDER): v for k, v in results.items()}
 
 
-def _mn(x) -> float:
-    return x / 1e6 if x is not None and math.isfinite(x) else math.nan
+def _mn(x: float) -> float:
+    return x / 1e6 if math.isfinite(x) else math.nan
 
 
 def rows(results: dict) -> tuple[list[dict], list[dict]]:
@@ -216,12 +218,14 @@ def rows(results: dict) -> tuple[list[dict], list[dict]]:
                "plastic_arc_m": r["plastic_arc"]}
         scale = depth if kind == "strip" else 1.0  # the 2-D rows as today's model sees them
         for point in ("first_yield", "hinge", "rupture", "limit"):
-            value = r[point] * scale if r[point] is not None else math.nan
+            value = r[point] * scale
             row[f"{point}_mn"] = _mn(value)
-            per_depth = strip[point] if strip is not None else None
-            ok = per_depth is not None and math.isfinite(per_depth) and math.isfinite(value)
-            row[f"d_eff_{point}_m"] = (value / per_depth if ok and kind != "strip"
-                                       else depth if kind == "strip" else math.nan)
+            if kind == "strip":  # today's model: the depth by definition
+                row[f"d_eff_{point}_m"] = depth
+            else:  # Eq. F54, against the strip of the same mesh and model
+                per_depth = strip[point] if strip is not None else math.nan
+                row[f"d_eff_{point}_m"] = value / per_depth if math.isfinite(per_depth) \
+                    and math.isfinite(value) else math.nan
         table.append(row)
         for d, f in zip(r["displacement"], r["force"], strict=True):
             curves.append({"model": row["model"], "load": label, "mesh": mesh,
