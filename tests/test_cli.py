@@ -109,21 +109,27 @@ def test_validation_run_on_a_manifest(tmp_path):
 
 
 def test_validation_run_of_a_bearing_variant(tmp_path):
-    """--rim-thickness reaches the bearing of every task: the report's bearing table and
-    settings name 80 mm rims. An impossible variant is a one-line error (a 150 mm rim leaves
-    no clearance between the plates' rims)."""
+    """--bearing FILE and --rim-thickness reach the bearing of every task: the file's pressure
+    is the run's, and the report's bearing table and settings show the file's friction and the
+    option's 80 mm rims (the option wins over the file's 50 mm), each beside the baseline. An
+    impossible variant is a one-line error (a 150 mm rim leaves no clearance between the
+    plates' rims)."""
     from validation.report.netcdf import read_table
 
     out = tmp_path / "run"
-    result = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "10",
-                 "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
-                 "--no-fem", "--rims", "rigid", "--rim-thickness", "80", "--out", str(out))
+    (tmp_path / "b.toml").write_text("pressure = 10\nfriction = 0.06\nrim_thickness = 0.05\n")
+    result = dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)), "--bearing",
+                 str(tmp_path / "b.toml"), "--criteria", "4", "--stop", "1.2", "--workers",
+                 "1", "--no-progress", "--no-fem", "--rims", "rigid", "--rim-thickness", "80",
+                 "--out", str(out))
     assert result.returncode == 0, result.stderr
     rows = {r["parameter"]: r for r in read_table(out / "report.nc", "bearing_10MPa")}
     row = rows["rim thickness"]
     assert float(row["value"]) * {"m": 1e3, "mm": 1.0}[row["unit"]] == pytest.approx(80.0)
+    assert float(rows["friction"]["value"]) == 0.06 and float(rows["friction"]["baseline"]) == 0.05
     settings = {r["setting"]: r["value"] for r in read_table(out / "report.nc", "settings")}
-    assert settings["bearing variant"] == "rim thickness 80 mm"
+    assert settings["bearing variant"] == "friction 0.06, rim thickness 80 mm"
+    assert settings["pressures"] == "10"
     _one_line_error(dfp("validate", "--rim-height", "150", "--no-fem", "--out", str(out)),
                     "no clearance")
 

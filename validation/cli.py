@@ -39,6 +39,7 @@ from .commands import (  # the commands, and what their help texts quote
     QUICK_RECORDS,
     CommandError,
     NoAnswerError,
+    bearing,
     critical,
     pulses,
     simulate,
@@ -99,14 +100,40 @@ def _positive(kind):
 
 _PRESSURE = _number(float, PRESSURE_RANGE[0] / 1e6, PRESSURE_RANGE[1] / 1e6, " MPa",
                     "what sliding bearings are designed for")
-_RIM_SIZE = _number(float, 5, 200, " mm", "rims of sliding bearings are a few centimetres")
 _STOP = _number(float, 0, MAX_SA_STOP / G, " g", "every studied record fails below 1.5 g",
                 low_open=True)
 
 
-def _bearing_args(p):
-    p.add_argument("--pressure", type=_PRESSURE, default=10.0,
-                   help="slider pressure [MPa], 1-200 (paper: 60 heavy, 10 light; default 10)")
+def _bearing_args(p, pressures=False):
+    """``--bearing FILE`` and the options of the common fields (:mod:`validation.bearing_file`;
+    an option wins over the file). ``pressures``: ``--pressure`` takes several (validate)."""
+    from .bearing_file import option_range
+
+    p.add_argument("--bearing", metavar="FILE",
+                   help="the bearing: a TOML file with any DFPBearing field in the README's "
+                   "units (dfp bearing --template writes one); options below override it")
+    if pressures:
+        p.add_argument("--pressure", type=_PRESSURE, nargs="+",
+                       help="slider pressures [MPa], 1-200 (default: the file's, else 60 10)")
+    else:
+        p.add_argument("--pressure", type=_PRESSURE,
+                       help="slider pressure [MPa], 1-200 (paper: 60 heavy, 10 light; default: "
+                       "the file's, else 10)")
+    helps = {"radius": "radius of each sliding surface [m] (default 2.5)",
+             "friction": "friction coefficient of the sliding surfaces [-] (default 0.05)",
+             "slider_diameter": "slider diameter [m] (default 0.4)",
+             "displacement_capacity": "the bearing's displacement capacity [m], twice the "
+             "travel on one surface (default 0.6)",
+             "rim_thickness": "the rims' thickness [mm] (default 40)",
+             "rim_height": "the rims' height [mm] (default 35)",
+             "yield_stress": "rim steel yield stress [MPa] (default 345)",
+             "ultimate_stress": "rim steel ultimate stress [MPa] (default 450)"}
+    for option, text in helps.items():
+        low, high, unit, low_open = option_range(option)
+        p.add_argument("--" + option.replace("_", "-"),
+                       type=_number(float, low, high, f" {unit}" if unit else "",
+                                    low_open=low_open),
+                       help=f"{text}, {low:g}-{high:g}")
 
 
 def _rim_args(p):
@@ -142,7 +169,7 @@ def _debug_arg(p, default):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``dfp`` command's parser: one subcommand each (simulate and its alias demo,
-    pulses, critical-sa, validate), each calling its command (:mod:`validation.commands`,
+    pulses, critical-sa, validate, bearing), each calling its command (:mod:`validation.commands`,
     looked up here at call time)."""
     parser = _Parser(
         prog="dfp",
@@ -155,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     _pulses_parser(sub)
     _critical_parser(sub)
     _validate_parser(sub)
+    _bearing_parser(sub)
     for p in sub.choices.values():  # --debug after the command too
         _debug_arg(p, argparse.SUPPRESS)
     return parser
@@ -213,6 +241,19 @@ def _critical_parser(sub):
     p.set_defaults(func=critical)
 
 
+def _bearing_parser(sub):
+    """``bearing``: a bearing file's template, or a bearing checked and described."""
+    p = sub.add_parser("bearing", help="write a bearing file's template, or check a bearing "
+                       "and show its parameters and derived quantities",
+                       description=bearing.__doc__)
+    p.add_argument("--template", nargs="?", const="bearing.toml", metavar="FILE",
+                   help="write a commented bearing file with every field at the baseline's "
+                   "value to FILE (default bearing.toml; - for standard output); an existing "
+                   "file is kept")
+    _bearing_args(p)
+    p.set_defaults(func=bearing)
+
+
 def _validate_parser(sub):
     """``validate``: a record set, both models, the report."""
     p = sub.add_parser("validate", help="critical SA and its prediction over a record set",
@@ -228,8 +269,7 @@ def _validate_parser(sub):
                    f"first pressure on the coarse mesh with {QUICK_FEM_STEP:g} s steps "
                    "(about 2 minutes on 2 cores)")
     p.add_argument("--records", type=_positive(int), help="use only the first N components")
-    p.add_argument("--pressure", type=_PRESSURE, nargs="+", default=[60.0, 10.0],
-                   help="slider pressures [MPa], 1-200 (default 60 10)")
+    _bearing_args(p, pressures=True)
     p.add_argument("--criteria", type=int, nargs="+", choices=[1, 2, 3, 4],
                    help="pulse selection criteria (default all; --quick: 3 and 4, the paper's)")
     p.add_argument("--stop", type=_STOP, default=1.5,
@@ -261,10 +301,6 @@ def _validate_parser(sub):
                    "state, where the FE searches then start")
     p.add_argument("--fem-kinematics", choices=("finite", "small"), default="finite",
                    help="FE kinematics: finite deformation (default) or small strain")
-    p.add_argument("--rim-thickness", type=_RIM_SIZE,
-                   help="a bearing variant: the rims' thickness [mm] (default 40)")
-    p.add_argument("--rim-height", type=_RIM_SIZE,
-                   help="a bearing variant: the rims' height [mm] (default 35)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
     p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),

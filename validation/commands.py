@@ -14,7 +14,8 @@ from rigid.limits import MAX_RECORD_ACCELERATION
 from rigid.motions import FEMA_P695_SETS
 from rigid.units import G
 
-__all__ = ["CommandError", "NoAnswerError", "critical", "pulses", "simulate", "validate"]
+__all__ = ["CommandError", "NoAnswerError", "bearing", "critical", "pulses", "simulate",
+           "validate"]
 
 #: Records of the quick run: the first components of the first FEMA P695 records of the set.
 QUICK_RECORDS = 4
@@ -54,12 +55,47 @@ def _locked_output_folder(args) -> Path:
     return folder
 
 
+#: Pressure [Pa] of the single-bearing commands when neither the file nor --pressure gives one.
+DEFAULT_PRESSURE = 10e6
+
+
 def _bearing(args):
-    import dataclasses
+    """The bearing of a single-bearing command: ``--bearing FILE`` and the options
+    (:mod:`validation.bearing_file`), pressure :data:`DEFAULT_PRESSURE` unless given."""
+    from .bearing_file import bearing_from, overrides
 
-    from rigid import DFPBearing
+    fields = overrides(args)
+    fields.setdefault("pressure", DEFAULT_PRESSURE)
+    return bearing_from(fields)
 
-    return dataclasses.replace(DFPBearing(), pressure=args.pressure * 1e6)
+
+def bearing(args) -> int:
+    """Write a commented bearing file (--template), or check a bearing (--bearing FILE and
+    the options) and print its parameters, in the file's units, and derived quantities."""
+    from .bearing_file import template
+
+    if args.template is not None:
+        text = template()
+        if args.template == "-":
+            print(text, end="")
+            return 0
+        path = Path(args.template)
+        if path.exists():
+            raise CommandError(f"{path} exists; choose another name or remove it")
+        try:
+            path.write_text(text, encoding="utf-8")
+        except OSError as exc:
+            raise CommandError(f"cannot write {path}: {exc.strerror}") from None
+        print(f"bearing template: {path} (edit it, then pass it as --bearing {path})")
+        return 0
+    from .report.write import bearing_rows
+
+    b = _bearing(args)
+    for row in bearing_rows(b):
+        unit = "" if row["unit"] in ("", "-") else f" {row['unit']}"
+        base = f"  (baseline {row['baseline']})" if row["baseline"] else ""
+        print(f"{row['parameter']:24s} {row['value']}{unit}{base}")
+    return 0
 
 
 def _record(args):
@@ -80,8 +116,8 @@ def simulate(args) -> int:
     from rigid import simulate as run
     from rigid.plots import plot_response
 
-    out = _locked_output_folder(args)
     bearing = _bearing(args)
+    out = _locked_output_folder(args)
     if args.record:  # read and checked before anything is printed
         motion = _record(args)
         if motion.pga * args.scale > MAX_RECORD_ACCELERATION:
@@ -90,13 +126,13 @@ def simulate(args) -> int:
                                f"the {MAX_RECORD_ACCELERATION / G:g} g of any recorded ground "
                                "motion (docs/limits.md)")
         dt, acceleration = motion.dt, args.scale * motion.acceleration
-        title = f"{args.pressure:g} MPa, {motion.name} × {args.scale:g}"
+        title = f"{bearing.pressure / 1e6:g} MPa, {motion.name} × {args.scale:g}"
     else:
         dt = 0.005
         _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
-        title = (f"{args.pressure:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
+        title = (f"{bearing.pressure / 1e6:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
                  f"Tp = {args.period:g} s")
-    print(f"DFP bearing, {args.pressure:g} MPa (supported mass "
+    print(f"DFP bearing, {bearing.pressure / 1e6:g} MPa (supported mass "
           f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f} m,"
           f" period {bearing.period:.2f} s)")
     print(title)
@@ -186,10 +222,21 @@ def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
 
+    from rigid import DFPBearing
     from validation.fem_search import FESettings
     from validation.report import write_report
     from validation.run import Settings, run_validation
 
+    from .bearing_file import bearing_from, describe_variant, overrides
+
+    fields = overrides(args)
+    pressure = fields.pop("pressure", None)
+    if args.pressure is None:  # the file's pressure, else the paper's two
+        args.pressure = [pressure / 1e6] if pressure is not None else [60.0, 10.0]
+    baseline = DFPBearing()
+    fields = {k: v for k, v in fields.items() if v != getattr(baseline, k)}
+    for p in args.pressure:  # a variant that is no bearing fails here, in one line
+        bearing_from(fields, pressure=p * 1e6)
     out = _locked_output_folder(args)
     motions, label = _motions(args)
     criteria = args.criteria or ((3, 4) if args.quick else (1, 2, 3, 4))
@@ -211,16 +258,11 @@ def validate(args) -> int:
         fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
         rims=tuple(dict.fromkeys(["rigid", *args.rims])),
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
-        bearing=tuple((field, getattr(args, field) / 1e3) for field in ("rim_thickness",
-                      "rim_height") if getattr(args, field) is not None),
+        bearing=tuple(fields.items()),
     )
-    for pressure in settings.pressures:  # a variant that is no bearing fails here, in one line
-        try:
-            settings.bearing_at(pressure)
-        except ValueError as exc:
-            raise CommandError(str(exc)) from None
+    variant = f"; bearing: {describe_variant(fields)}" if fields else ""
     print(f"validation: {len(motions)} records ({label}), pressures "
-          f"{', '.join(f'{p:g}' for p in args.pressure)} MPa -> {out}")
+          f"{', '.join(f'{p:g}' for p in args.pressure)} MPa{variant} -> {out}")
     start = time.perf_counter()
     progress = None if args.progress else False
     results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,

@@ -82,8 +82,9 @@ class Settings:
                + (f" (yielding: {', '.join(self.ladder_states())})"
                   if self.ladder_states() else "")}
         if self.bearing:
-            out["bearing variant"] = ", ".join(f"{k.replace('_', ' ')} {v * 1e3:g} mm"
-                                               for k, v in self.bearing)
+            from .bearing_file import describe_variant
+
+            out["bearing variant"] = describe_variant(self.bearing)
         if self.fem is None:
             return out | {"FE critical SA": "not run"}
         pressures = self.fem_pressures or self.pressures

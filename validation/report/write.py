@@ -14,6 +14,7 @@ import numpy as np
 from rigid import G
 from rigid.collapse.comparison import comparison_rows, ladder_rows, table2, write_csv
 
+from ..bearing_file import UNITS
 from .fem_tables import (  # re-exported: the report's FE tables and figure
     claim_verdicts,
     fem_rows,
@@ -36,19 +37,10 @@ PAPER_NOTE = (
     "reproduce the paper's figures value for value."
 )
 
-#: Unit and factor from SI of each DFPBearing parameter and derived quantity in the report
-#: (a parameter missing here is shown in SI with the unit of its docstring, see
-#: :func:`bearing_rows`).
-BEARING_UNITS = {
-    "pressure": ("MPa", 1e-6), "radius": ("m", 1), "friction": ("-", 1),
-    "slider_diameter": ("m", 1), "slider_height": ("m", 1), "capacity": ("m", 1),
-    "rim_height": ("m", 1), "rim_thickness": ("m", 1), "contact_stiffness": ("N/m^1.5", 1),
-    "restitution": ("-", 1), "impact_mass": ("", 1), "rim_friction": ("-", 1),
-    "friction_yield_slip": ("mm", 1e3), "design_period": ("s", 1),
-    "steel_density": ("kg/m³", 1), "youngs_modulus": ("GPa", 1e-9), "poisson_ratio": ("-", 1),
-    "yield_stress": ("MPa", 1e-6), "ultimate_stress": ("MPa", 1e-6),
-    "hardening_ratio": ("-", 1), "plate_thickness": ("m", 1),
-    # derived
+#: Unit and factor from SI of each DFPBearing parameter (as in a bearing file,
+#: :mod:`validation.bearing_file`) and derived quantity in the report (a parameter missing here
+#: is shown in SI with the unit of its docstring, see :func:`bearing_rows`).
+BEARING_UNITS = UNITS | {
     "weight": ("MN", 1e-6), "supported_mass": ("t", 1e-3), "slider_mass": ("kg", 1),
     "slider_inertia": ("kg·m²", 1), "rim_radius": ("m", 1), "rim_clearance": ("mm", 1e3),
     "displacement_capacity": ("m", 1), "period": ("s", 1), "damping_ratio": ("-", 1),
@@ -96,17 +88,23 @@ def settings_rows(settings) -> list[dict]:
 
 def bearing_rows(bearing) -> list[dict]:
     """The bearing's parameters and derived quantities: parameter, value (plain text, in the
-    unit shown), unit ("-" dimensionless, "" text)."""
+    unit shown, that of a bearing file), unit ("-" dimensionless, "" text), baseline (the
+    value of the paper's bearing at the same pressure where this one differs, else "")."""
     import dataclasses
 
+    baseline = type(bearing)(pressure=bearing.pressure)
     rows = []
     names = [f.name for f in dataclasses.fields(bearing)] + list(_DERIVED)
     for name in names:
-        value = getattr(bearing, name)
         unit, factor = BEARING_UNITS.get(name, (_documented_unit(type(bearing), name), 1))
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            value = value * factor
-        rows.append({"parameter": name.replace("_", " "), "value": plain(value), "unit": unit})
+        shown = []
+        for b in (bearing, baseline):
+            value = getattr(b, name)
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                value = value * factor
+            shown.append(plain(value))
+        rows.append({"parameter": name.replace("_", " "), "value": shown[0], "unit": unit,
+                     "baseline": shown[1] if shown[1] != shown[0] else ""})
     return rows
 
 
@@ -263,7 +261,8 @@ def _pressure_section(report, pressure, res, out, figures, table2_rows) -> dict:
     bearing = bearing_rows(res.bearing)
     tables = {f"bearing_{tag}": bearing, f"comparison_{tag}": rows, f"ladders_{tag}": ladders}
     report.heading(f"Bearing at {pressure / 1e6:g} MPa")
-    report.table(bearing, caption="DFPBearing: parameters, then derived quantities")
+    report.table(bearing, caption="DFPBearing: parameters (in a bearing file's units), then "
+                 "derived quantities; baseline: the paper's bearing, where this one differs")
     columns = {"record": "record", "actual_sa_g": "actual SA [g]",
                "resurrected": "resurrection", "numerical_rungs": "numerical rungs",
                "uncertain": "uncertain"}
