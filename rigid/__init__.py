@@ -57,8 +57,12 @@ from .motions import (
     scale_factor,
     scaling_ladder,
 )
+from .reprs import install as _short_reprs
+from .results import EnergyBalance
 from .rims import RimLaw, rim_law
 from .units import G
+
+_short_reprs(SimulationResult, EnergyBalance, CriticalSA, PredictedSA, CollapseMargin, RimLaw)
 
 __all__ = [
     "LIMIT_STATES",

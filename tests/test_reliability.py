@@ -150,7 +150,8 @@ def _manifest(tmp_path, n=1, amplitude=0.2):
 
 def test_two_runs_on_one_folder(tmp_path, capsys):
     """A second run on a folder another process holds stops at once with one line naming
-    the holder; the lock dies with its process (no stale lock)."""
+    the holder; the lock dies with its process (its file, left by the kill, is taken over
+    with a warning)."""
     out = tmp_path / "out"
     out.mkdir()
     holder = subprocess.Popen([sys.executable, "-c",
@@ -170,7 +171,8 @@ def test_two_runs_on_one_folder(tmp_path, capsys):
     finally:
         holder.kill()
         holder.wait()
-    with FolderLock(out):  # free again once the holder is gone
+    with pytest.warns(UserWarning, match=f"stale lock of process {holder.pid}"), \
+            FolderLock(out):  # free again once the holder is gone, its file taken over
         pass
 
 

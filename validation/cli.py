@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import signal
 import sys
 import warnings
@@ -41,6 +42,7 @@ from .commands import (  # the commands, and what their help texts quote
     NoAnswerError,
     bearing,
     critical,
+    did_you_mean,
     pulses,
     simulate,
     validate,
@@ -154,10 +156,32 @@ def _record_args(p, required):
     p.add_argument("--units", help="units of a plain text record (g, m/s2, gal, ...)")
 
 
+_INVALID_CHOICE = re.compile(r"invalid choice: '?(?P<word>[^' ]*)'? "
+                             r"\(choose from (?P<choices>.*)\)")
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with its errors on one line (no usage block)."""
+    """argparse with its errors on one line (no usage block), and the nearest subcommand,
+    choice or option suggested for a mistyped one (argparse suggests none before Python 3.14)."""
+
+    #: The subcommands' parsers, by name (set on the top parser by :func:`build_parser`).
+    commands: dict | None = None
+
+    def parse_args(self, args=None, namespace=None):
+        known, extra = self.parse_known_args(args, namespace)
+        if extra:
+            sub = (self.commands or {}).get(getattr(known, "command", None), self)
+            options = [o for a in sub._actions for o in a.option_strings]
+            hints = "".join(did_you_mean(w.split("=")[0], options) for w in extra
+                            if w.startswith("--"))
+            self.error(f"unrecognized arguments: {' '.join(extra)}{hints}")
+        return known
 
     def error(self, message):
+        m = _INVALID_CHOICE.search(message)
+        if m:
+            choices = [c.strip(" '") for c in m["choices"].split(",")]
+            message += did_you_mean(m["word"], choices)
         self.exit(EXIT_USAGE, f"{self.prog}: error: {one_line(message)} (see {self.prog} "
                   "--help)\n")
 
@@ -185,6 +209,7 @@ def build_parser() -> argparse.ArgumentParser:
     _bearing_parser(sub)
     for p in sub.choices.values():  # --debug after the command too
         _debug_arg(p, argparse.SUPPRESS)
+    parser.commands = dict(sub.choices)
     return parser
 
 

@@ -34,6 +34,15 @@ class NoAnswerError(Exception):
     """The computation ran but gives no trustworthy answer: printed as one line, exit 1."""
 
 
+def did_you_mean(word: str, choices) -> str:
+    """`` (did you mean X?)`` for the choice nearest ``word`` (:func:`difflib.get_close_matches`),
+    or "" when none is near."""
+    import difflib
+
+    near = difflib.get_close_matches(word, list(choices), n=1, cutoff=0.6)
+    return f" (did you mean {near[0]}?)" if near else ""
+
+
 def _output_folder(path: str) -> Path:
     folder = Path(path)
     try:
@@ -205,7 +214,8 @@ def _motions(args):
         label = f"manifest {args.manifest}"
     else:
         if args.set not in FEMA_P695_SETS:
-            raise CommandError(f"unknown record set {args.set!r}; choose from "
+            raise CommandError(f"unknown record set {args.set!r}"
+                               f"{did_you_mean(args.set, FEMA_P695_SETS)}; choose from "
                                f"{', '.join(FEMA_P695_SETS)}")
         motions = fema_p695(args.set)
         label = f"FEMA P695 {args.set}"

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from fem.dfp import KINEMATICS
 from rigid import DFPBearing
 from rigid.limit_states import LIMIT_STATES, check_limit_states
+from rigid.reprs import install as install_short_repr
 from rigid.tasks import ResultStore, Task, run_tasks, task_key
 
 from .fem_runs import MESHES, fem_run
@@ -234,6 +235,9 @@ class FECritical:
         a probe was numerical): the critical SA depends on it."""
         return any(p["failed"] is None and (self.sa is None or p["sa"] <= self.sa + 1e-9)
                    for p in self.probes)
+
+
+install_short_repr(FECritical)
 
 
 def _verdict_of(result: dict, limit_state: str):

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from rigid import DFPBearing, G
+from rigid.reprs import install as install_short_repr
 from rigid.tasks import ResultStore, Task, run_tasks, task_key
 
 from .fem_search import FESearches, FESettings
@@ -159,6 +160,9 @@ class PressureResults:
     actual: list = field(default_factory=list)
     predictions: dict = field(default_factory=dict)  # criterion → list of PredictedSA
     yielding: dict = field(default_factory=dict)  # limit state → list of CriticalSA
+
+
+install_short_repr(PressureResults)
 
 
 def rigid_tasks(motions, settings: Settings, out: Path):

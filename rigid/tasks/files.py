@@ -51,9 +51,11 @@ class FolderBusyError(OSError):
 
 class FolderLock:
     """An exclusive, non-blocking lock on ``folder/.dfp.lock`` (``fcntl.flock``), held until
-    :meth:`release` or the process ends (the kernel releases it even on SIGKILL, so a stale
-    lock file never blocks a later run). :class:`FolderBusyError` names the holder's process
-    id when the lock is taken. Where ``fcntl`` is missing (Windows) the lock is a no-op.
+    :meth:`release` (which removes the file) or the process ends (the kernel releases the
+    lock even on SIGKILL). A lock file left by a process that ended without removing it (it
+    was killed) holds no lock: it is taken over, with a warning naming the old process id.
+    :class:`FolderBusyError` names the holder's process id when the lock is taken. Where
+    ``fcntl`` is missing (Windows) the lock is a no-op.
 
     Parameters
     ----------
@@ -72,17 +74,33 @@ class FolderLock:
             import fcntl
         except ImportError:  # pragma: no cover - not POSIX
             return self
-        fh = open(self.path, "a+")
-        try:
-            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            fh.seek(0)
-            holder = fh.read().strip()[:20]
+        while True:
+            fh = open(self.path, "a+")
+            try:
+                fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = _holder(fh)
+                fh.close()
+                who = f" (process {holder})" if holder else ""
+                raise FolderBusyError(f"another dfp run{who} is using the folder "
+                                      f"{self.path.parent}; wait for it to finish or choose "
+                                      "another output folder") from None
+            # the holder may have removed the file between our open and our lock: then the
+            # lock is on a file nobody else will open; start again on the path's file
+            try:
+                same = os.stat(self.path).st_ino == os.fstat(fh.fileno()).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                break
             fh.close()
-            who = f" (process {holder})" if holder.isdigit() else ""
-            raise FolderBusyError(f"another dfp run{who} is using the folder "
-                                  f"{self.path.parent}; wait for it to finish or choose "
-                                  "another output folder") from None
+        stale = _holder(fh)
+        if stale and int(stale) != os.getpid():
+            import warnings
+
+            state = "no longer running" if not _alive(int(stale)) else "not holding it"
+            warnings.warn(f"took over the stale lock of process {stale} ({state}) on "
+                          f"{self.path.parent}", stacklevel=2)
         fh.seek(0)
         fh.truncate()
         fh.write(str(os.getpid()))
@@ -91,7 +109,11 @@ class FolderLock:
         return self
 
     def release(self) -> None:
+        """Remove the lock file and release the lock (idempotent)."""
         if self._fh is not None:
+            with contextlib.suppress(OSError):  # removed by hand, or the folder is gone
+                if os.stat(self.path).st_ino == os.fstat(self._fh.fileno()).st_ino:
+                    self.path.unlink()
             self._fh.close()  # closing releases the flock
             self._fh = None
 
@@ -100,3 +122,21 @@ class FolderLock:
 
     def __exit__(self, *exc):
         self.release()
+
+
+def _holder(fh) -> str:
+    """The process id written in an open lock file, or "" if none."""
+    fh.seek(0)
+    text = fh.read(40).strip()
+    return text if text.isdigit() else ""
+
+
+def _alive(pid: int) -> bool:
+    """Whether a process ``pid`` exists (signal 0: no signal sent, only the check)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, owned by another user
+        return True
+    return True
