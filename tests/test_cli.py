@@ -144,8 +144,15 @@ def test_simulate_pulses_and_critical_sa_on_a_record(tmp_path):
     pulses = dfp("pulses", *record, "--out", str(tmp_path / "p"))
     assert pulses.returncode == 0, pulses.stderr
     assert pulses.stdout.count("antisymmetric") == 4  # every criterion finds the pulse itself
-    crit = dfp("critical-sa", *record, "--search", "fast", "--after-failure", "0")
+    (tmp_path / "b.toml").write_text("pressure = 30\nrim_height = 0.03\n")
+    crit = dfp("critical-sa", *record, "--search", "fast", "--after-failure", "0", "--bearing",
+               str(tmp_path / "b.toml"), "--stop", "1.2")
     assert crit.returncode == 0 and "critical SA" in crit.stdout and "predicted SA" in crit.stdout
+    # what was run is said first: the file's pressure and rims, the ladder's top
+    bearing_line, ladder_line = crit.stdout.splitlines()[:2]
+    assert "30 MPa" in bearing_line and "rims 40 × 30 mm" in bearing_line, bearing_line
+    assert "rigid, failure = containment" in bearing_line, bearing_line
+    assert "up to 1.2 g (not the default 1.5 g)" in ladder_line, ladder_line
 
 
 def test_simulate_with_yielding_rims(tmp_path):

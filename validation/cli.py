@@ -35,6 +35,7 @@ from rigid.units import G
 
 from .commands import (  # the commands, and what their help texts quote
     FULL_FEM_STEP,
+    LADDER_TOP,
     QUICK_FEM_RECORDS,
     QUICK_FEM_STEP,
     QUICK_RECORDS,
@@ -255,8 +256,9 @@ def _critical_parser(sub):
                        description=critical.__doc__)
     _bearing_args(p)
     _record_args(p, required=True)
-    p.add_argument("--stop", type=_STOP, default=2.0,
-                   help="highest SA(4.5 s) of the ladder [g], up to 5 (default 2)")
+    p.add_argument("--stop", type=_STOP, default=LADDER_TOP,
+                   help=f"highest SA(4.5 s) of the ladder [g], up to 5 (default {LADDER_TOP:g}, "
+                   "as every dfp command)")
     p.add_argument("--search", choices=("fast", "full"), default="full", help="ladder search")
     p.add_argument("--after-failure", type=_number(int, 0, 1000), default=10,
                    help="rungs run above the first failure, to show resurrections (default 10)")
@@ -297,8 +299,9 @@ def _validate_parser(sub):
     _bearing_args(p, pressures=True)
     p.add_argument("--criteria", type=int, nargs="+", choices=[1, 2, 3, 4],
                    help="pulse selection criteria (default all; --quick: 3 and 4, the paper's)")
-    p.add_argument("--stop", type=_STOP, default=1.5,
-                   help="highest SA(4.5 s) of the ladder [g], up to 5 (default 1.5)")
+    p.add_argument("--stop", type=_STOP, default=LADDER_TOP,
+                   help=f"highest SA(4.5 s) of the ladder [g], up to 5 (default {LADDER_TOP:g}, "
+                   "as every dfp command)")
     p.add_argument("--search", choices=("fast", "full"), default="fast",
                    help="ladder search (default fast: 0.1 g steps, then 0.01 g)")
     p.add_argument("--fem", action=argparse.BooleanOptionalAction, default=True,
