@@ -141,19 +141,21 @@ def test_rerun_reuses_stored_results(tmp_path):
 
 
 def test_progress_log_has_a_line_per_run_with_the_time_left(tmp_path):
-    """One line per task run (none for results read from the store), counting runs done and
-    queued; the estimate of the time left reaches zero with the queue."""
+    """A first line as the first run starts, then one line per task run (none for results
+    read from the store), counting runs done and queued; the estimate of the time left
+    reaches zero with the queue."""
     from rigid.tasks.runner import Progress
 
     log = tmp_path / "progress.log"
     store = ResultStore(tmp_path / "r.sqlite")
     run_tasks(_tasks(3), store, workers=1, progress=False, log=log)
     lines = log.read_text().splitlines()
-    assert len(lines) == 3
-    assert "1 run, 0 running, 2 queued; square" in lines[0]
+    assert len(lines) == 4
+    assert "started, 3 queued on 1 worker(s)" in lines[0]
+    assert "1 run, 0 running, 2 queued; square" in lines[1]
     assert "3 run, 0 running, 0 queued" in lines[-1] and "about 0 s left" in lines[-1]
     run_tasks(_tasks(3), store, workers=1, progress=False, log=log)  # all stored: no line
-    assert len(log.read_text().splitlines()) == 3
+    assert len(log.read_text().splitlines()) == 4
     # two workers, 60 s runs of one kind, four queued: 4 × 60 / 2 = 2 min, plus half the
     # running one's mean over the workers (0.25 min)
     tally = Progress(2)

@@ -293,6 +293,9 @@ def validate(args) -> int:
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
         bearing=tuple(fields.items()),
     )
+    with open(out / "progress.log", "a") as fh:  # a first line at once (#32): the rims' law
+        fh.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')}: dfp validate: {len(motions)} "
+                 "records; preparing the tasks (the yielding rims' law: FE pushes, cached)\n")
     variant = f"; bearing: {describe_variant(fields)}" if fields else ""
     top = f"; ladder top {args.stop:g} g" if args.stop != LADDER_TOP else ""
     print(f"validation: {len(motions)} records ({label}), pressures "

@@ -19,10 +19,8 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from pathlib import Path
 
-import numpy as np
-
+from .progress import Progress, running, watch
 from .store import ResultStore
 
 
@@ -157,116 +155,6 @@ class _Dask:
             self.client.close()
 
 
-class Progress:
-    """Figures of a run of tasks for people watching it: runs done, running and queued, seconds
-    per run by kind, and the time left: the queued and running tasks and the follow-ups they
-    are expected to bring (a search's next runs), at the rates seen so far; appended to a log
-    file when one is given.
-
-    Each finished task of kind A has brought r_AB follow-ups of kind B on average and has run
-    (rather than been read from the store) with frequency s_A, so the expected work of one
-    task of kind A, its follow-ups included, solves W_A = s_A m_A + Σ_B r_AB W_B (m: mean
-    seconds per run of each kind), i.e. W = (I − R)⁻¹ (s m); where that has no finite
-    positive solution (a chain that has so far always gone on) only the known queue counts.
-    Tasks that say they bring none (:attr:`Task.leads` False) are left out of r_AB and count
-    s_A m_A alone: otherwise the FE searches of two records made every one of 54 queued
-    ladders look like the start of a search (65 h left shown after the first FE run of the
-    default-mesh check, which has 4 searches).
-
-    A resumed run first reads what its store holds (finished searches, s_A ≈ 0) and then
-    meets the searches still open (s_A ≈ 1, longer chains); counted in, that replay makes the
-    estimate far too low (a resumed FE validation showed 15 min where 2 h were left). So s_A
-    leaves out the tasks read from the store before the first run ends (they still teach r_AB,
-    the searches' shape), and the counts and the mean seconds weigh the tasks of each kind by
-    recency, with a half-life of ``half_life`` tasks of that kind (``math.inf``: equal
-    weights), for the replays and changes of pace that come later."""
-
-    def __init__(self, capacity: int, log=None, half_life: float = 50.0):
-        self.capacity = max(1, int(capacity))
-        self.log = None if log is None else Path(log)
-        self.decay = 0.5 ** (1.0 / half_life)  # weight kept by the older tasks of a kind
-        self.seconds: dict = {}
-        self.finished: dict = {}   # kind → weight of the tasks finished (run or read)
-        self.leading: dict = {}    # the same, of the tasks that may bring follow-ups
-        self.met: dict = {}        # the same without the replay before the first run ends
-        self.ran: dict = {}        # kind → weight of the tasks run
-        self.children: dict = {}   # (kind, follow-up kind) → weight of the follow-ups brought
-        self.started = time.time()
-
-    def spawned(self, kind: str, follow_ups, ran: bool = True, leads: bool = True) -> None:
-        """Enter the follow-ups a finished task of ``kind`` brought, whether it ran (False:
-        its result was read from the store) and whether it could bring any (:attr:`Task.leads`).
-        """
-        def count(counts, amount):  # one more task of this kind: the older ones decay
-            counts[kind] = counts.get(kind, 0.0) * self.decay + amount
-
-        count(self.finished, 1.0)
-        if ran or self.seconds:  # the replay before the first run ends teaches r_AB only
-            count(self.met, 1.0)
-            count(self.ran, float(bool(ran)))
-        if not (leads or follow_ups):
-            return
-        count(self.leading, 1.0)
-        for pair in self.children:
-            if pair[0] == kind:
-                self.children[pair] *= self.decay
-        for t in follow_ups:
-            self.children[kind, t.kind] = self.children.get((kind, t.kind), 0.0) + 1.0
-
-    def _mean(self, kind: str) -> float:
-        """Recency-weighted mean seconds of the runs of ``kind`` (class docstring)."""
-        runs = self.seconds[kind]
-        weights = self.decay ** np.arange(len(runs) - 1, -1, -1, dtype=float)
-        return float(np.dot(weights, runs) / weights.sum())
-
-    def _share(self, kind: str) -> float:
-        """s_A: how often a task of ``kind`` runs rather than being read (class docstring)."""
-        return self.ran[kind] / self.met[kind] if self.met.get(kind) else 1.0
-
-    def _work(self, mean: dict, default: float) -> dict:
-        """Expected seconds of one task of each kind with its follow-ups (class docstring)."""
-        kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
-        m = np.array([mean.get(k, default) * self._share(k) for k in kinds])
-        r = np.array([[self.children.get((a, b), 0) / self.leading[a] if self.leading.get(a)
-                       else 0.0 for b in kinds] for a in kinds])
-        try:
-            w = np.linalg.solve(np.eye(len(kinds)) - r, m)
-        except np.linalg.LinAlgError:
-            w = m
-        if not np.all(np.isfinite(w)) or np.any(w < m):
-            w = m
-        return dict(zip(kinds, w.tolist(), strict=True))
-
-    def record(self, kind: str, seconds: float, running: int, queue) -> str:
-        """Enter a finished task; return (and log) the progress line."""
-        self.seconds.setdefault(kind, []).append(float(seconds))
-        done = sum(len(v) for v in self.seconds.values())
-        every = [x for v in self.seconds.values() for x in v]
-        overall = sum(every) / len(every)  # for kinds not timed yet
-        mean = {k: self._mean(k) for k in self.seconds}
-        work = self._work(mean, overall)
-        left = sum(work.get(t.kind, overall) if t.leads
-                   else mean.get(t.kind, overall) * self._share(t.kind) for t in queue)
-        # a running task runs: half its mean is left, and its follow-ups' share of W
-        share = self._share(kind)
-        left = (left + running * (mean[kind] / 2 + work[kind] - share * mean[kind])) / self.capacity
-        line = (f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {done} run, {running} running, "
-                f"{len(queue)} queued; {kind} {seconds:.0f} s (mean {mean[kind]:.0f} s); "
-                f"about {_duration(left)} left with the follow-ups expected, "
-                f"{_duration(time.time() - self.started)} so far")
-        if self.log is not None:
-            with open(self.log, "a") as fh:
-                fh.write(line + "\n")
-        return line
-
-
-def _duration(seconds: float) -> str:
-    """``1 h 05 min``, ``12 min``, ``40 s``."""
-    if seconds >= 3600:
-        return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60):02d} min"
-    return f"{seconds / 60:.0f} min" if seconds >= 60 else f"{seconds:.0f} s"
-
-
 def run_tasks(
     tasks: Iterable[Task],
     store: ResultStore | None,
@@ -302,7 +190,9 @@ def run_tasks(
     workers : int, optional
         Local worker processes; default :func:`default_workers`; 1 runs in this process.
     progress : bool, optional
-        Show a progress bar; default when standard error is a terminal.
+        True: a progress bar (refreshed every second); None (default): the bar on a terminal,
+        elsewhere (a pipe) a plain progress line every :data:`~rigid.tasks.progress.HEARTBEAT`
+        seconds on standard error; False: neither.
     description : str
         Label of the progress bar.
     unit : str
@@ -312,9 +202,10 @@ def run_tasks(
     initializer : callable, optional
         Run once in each local worker process as it starts (e.g. to load compiled code).
     log : path-like, optional
-        Append one line per task run to this file: the time, the task's kind and seconds, runs
-        done, running and queued, and an estimate of the time left for the queue known then
-        (:class:`Progress`; the same figures follow the progress bar).
+        Append to this file a line when the first run starts, one per task run (the time, the
+        task's kind and seconds, runs done, running and queued, and an estimate of the time
+        left for the queue known then: :class:`Progress`; the same figures follow the progress
+        bar) and one every :data:`~rigid.tasks.progress.HEARTBEAT` seconds.
     """
     from tqdm.auto import tqdm
 
@@ -322,21 +213,25 @@ def run_tasks(
     results = {}
     executor = (_Dask(scheduler) if scheduler is not None
                 else _Local(workers or default_workers(), start_method, initializer))
+    plain = progress is None and not sys.stderr.isatty()  # a pipe: plain lines
     progress = sys.stderr.isatty() if progress is None else progress
     bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
                disable=not progress, file=sys.stderr, dynamic_ncols=True)
     in_flight = {}
     tally = Progress(executor.capacity, log)
+    started = {}  # future → when it was submitted, on tally.clock
+    beat = watch(tally, queue, in_flight, started, bar=bar if progress else None,
+                 stream=sys.stderr if plain else None)
 
     def finish(task, result, seconds=None):
         results[task.key] = result
         new = list(follow_up(task, result)) if follow_up else []
-        tally.spawned(task.kind, new, ran=seconds is not None, leads=task.leads)
+        tally.spawned(task.kind, new, ran=seconds is not None, leads=task.leads, key=task.key)
         queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
         bar.total += sum(t.size for t in new)
         bar.update(task.size)
         if seconds is not None:
-            line = tally.record(task.kind, seconds, len(in_flight), queue)
+            line = tally.record(task.kind, seconds, running(in_flight, started), queue)
             bar.set_postfix_str(line.split(": ", 1)[1], refresh=False)
 
     try:
@@ -350,9 +245,12 @@ def run_tasks(
                 if stored is not None:
                     finish(task, stored)
                 else:
-                    in_flight[executor.submit(task)] = task
+                    beat.begin(len(queue) + 1)  # the log's first line, before any run
+                    future = executor.submit(task)
+                    in_flight[future], started[future] = task, tally.clock()
             for future in executor.wait_one(in_flight):
                 task = in_flight.pop(future)
+                started.pop(future, None)
                 result, seconds = executor.result(future)
                 if store is not None:
                     store.put(task.key, task.kind, result, seconds)
@@ -361,6 +259,7 @@ def run_tasks(
         executor.close(cancel=True)
         raise
     finally:
+        beat.stop()
         bar.close()
     executor.close()
     return results
