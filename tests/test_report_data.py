@@ -81,6 +81,10 @@ def test_fem_section_in_page_csv_and_netcdf(tmp_path):
                         fem=_fem_results())
     page = path.read_text()
     assert "paper Fig. 4" in page and "data:image/png;base64," in page  # embedded
+    import re  # every link of the page (glossary terms, sections) has its target
+
+    assert set(re.findall(r'href="#([^"]+)"', page)) <= set(re.findall(r'id="([^"]+)"', page))
+    assert page.index('id="summary"') < page.index('id="about"')  # the answer first
     assert "fem_comparison.csv" in page and "fem_runs.csv" in page  # both tables
     with open(tmp_path / "fem_comparison.csv") as fh:
         csv_rows = list(csv.DictReader(fh))

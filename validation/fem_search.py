@@ -119,7 +119,11 @@ class FESettings:
         return {**options, "limit_state": run_limit_state(self.limit_states)}
 
     def describe(self) -> dict:
-        return {"FE mesh": f"{self.mesh} ({MESHES[self.mesh] or 'generator defaults'})",
+        sizes = MESHES[self.mesh]
+        names = {"rim_size": "rims", "contact_size": "contact", "coarse_size": "elsewhere"}
+        sizes = ", ".join(f"{names.get(k, k)} {v * 1e3:g} mm" for k, v in sizes.items()) \
+            if sizes else "the generator's defaults"
+        return {"FE mesh": f"{self.mesh} (element sizes: {sizes})",
                 "FE time step [s]": f"{self.max_step:g} free sliding, {self.impact_step:g} "
                 "at a rim", "FE trimming": {"end": "after the strong motion, once quiet",
                                      "window": "strong-motion window",

@@ -4,21 +4,62 @@ from __future__ import annotations
 
 import base64
 import html
+import re
 from pathlib import Path
 
 _STYLE = """
-body { font-family: system-ui, sans-serif; max-width: 70em; margin: 2em auto; color: #222;
-       line-height: 1.45; padding: 0 1em; }
-h1 { font-size: 1.6em; } h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; margin-top: 2em; }
+body { font-family: system-ui, sans-serif; max-width: 70em; margin: 1em auto; color: #222;
+       line-height: 1.4; padding: 0 1em; }
+h1 { font-size: 1.5em; margin: 0.3em 0; }
+h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; margin-top: 2em; }
+.summary h2 { margin-top: 0.4em; }
+.summary { display: grid; grid-template-columns: minmax(0, 1fr) minmax(0, 26em); gap: 0 1.5em; }
+.summary p, .summary ul { margin: 0.35em 0; } .summary ul { padding-left: 1.2em; }
+.summary figure { margin: 0.4em 0; }
+@media (max-width: 60em) { .summary { grid-template-columns: minmax(0, 1fr); } }
 .table-scroll { overflow-x: auto; max-width: 100%; margin: 1em 0; }
+.summary .table-scroll { margin: 0.4em 0; }
 table { border-collapse: collapse; font-size: 0.9em; margin: 0; }
 .table-caption { font-size: 0.9em; color: #555; margin-top: 1em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th, td { border: 1px solid #ccc; padding: 0.2em 0.5em; text-align: right; }
 th { background: #f3f3f3; } td.text { text-align: left; }
 figure { margin: 1em 0; } figcaption { font-size: 0.9em; color: #555; }
 img { max-width: 100%; } .note { background: #fff8e0; padding: 0.6em 1em; }
+.warn { color: #8a4b00; }
 code { background: #f3f3f3; padding: 0 0.2em; }
+dl.glossary dt { font-weight: 600; margin-top: 0.5em; } dl.glossary dd { margin-left: 1.5em; }
+a { color: #1a5fb4; }
+@media print {
+  @page { size: A4; margin: 12mm; }
+  body { max-width: none; margin: 0; padding: 0; font-size: 9pt; }
+  .summary { grid-template-columns: minmax(0, 1fr); }
+  .table-scroll { overflow: visible; }
+  table { width: 100%; table-layout: fixed; font-size: 7pt; page-break-inside: auto; }
+  th, td { overflow-wrap: anywhere; padding: 0.1em 0.2em; }
+  tr, figure { page-break-inside: avoid; }
+  h2 { page-break-after: avoid; }
+  a { color: inherit; text-decoration: none; }
+}
 """
+
+#: ``[[term]]`` or ``[[term|shown text]]`` in a paragraph: a link to the term's definition in
+#: the glossary (:mod:`validation.report.glossary`); ``[[#id|text]]``: to the element ``id``.
+_LINK = re.compile(r"\[\[([^\]|]+)(?:\|([^\]]+))?\]\]")
+
+
+def _linked(text: str) -> str:
+    """``text`` escaped, its ``[[term]]`` marks turned into links to the glossary."""
+    from .glossary import anchor
+
+    out, last = [], 0
+    for m in _LINK.finditer(text):
+        out.append(html.escape(text[last:m.start()]))
+        shown = m.group(2) or m.group(1)
+        target = m.group(1) if m.group(1).startswith("#") else "#" + anchor(m.group(1))
+        out.append(f'<a href="{html.escape(target)}">{html.escape(shown)}</a>')
+        last = m.end()
+    out.append(html.escape(text[last:]))
+    return "".join(out)
 
 
 class Report:
@@ -33,13 +74,36 @@ class Report:
         self.title = title
         self.parts: list[str] = []
 
-    def heading(self, text: str) -> None:
-        self.parts.append(f"<h2>{html.escape(text)}</h2>")
+    def heading(self, text: str, id: str | None = None) -> None:
+        """A section heading (``id``: its anchor)."""
+        at = f' id="{html.escape(id)}"' if id else ""
+        self.parts.append(f"<h2{at}>{_linked(text)}</h2>")
 
-    def paragraph(self, text: str, note: bool = False) -> None:
-        """A paragraph of plain text (escaped); ``note`` highlights it."""
-        cls = ' class="note"' if note else ""
-        self.parts.append(f"<p{cls}>{html.escape(text)}</p>")
+    def paragraph(self, text: str, note: bool = False, cls: str = "") -> None:
+        """A paragraph of plain text (escaped; ``[[term]]`` links to the glossary); ``note``
+        highlights it, ``cls`` is its CSS class."""
+        cls = " ".join(c for c in ("note" if note else "", cls) if c)
+        attr = f' class="{cls}"' if cls else ""
+        self.parts.append(f"<p{attr}>{_linked(text)}</p>")
+
+    def items(self, texts: list[str]) -> None:
+        """A bulleted list of plain-text items (``[[term]]`` links)."""
+        self.parts.append("<ul>" + "".join(f"<li>{_linked(t)}</li>" for t in texts) + "</ul>")
+
+    def open(self, cls: str) -> None:
+        """Open a ``<div class=cls>`` (close it with :meth:`close`)."""
+        self.parts.append(f'<div class="{html.escape(cls)}">')
+
+    def close(self) -> None:
+        self.parts.append("</div>")
+
+    def glossary(self, terms: dict) -> None:
+        """Definitions, each with its anchor (:func:`validation.report.glossary.anchor`)."""
+        from .glossary import anchor
+
+        self.parts.append('<dl class="glossary">' + "".join(
+            f'<dt id="{anchor(t)}">{html.escape(t)}</dt><dd>{_linked(d)}</dd>'
+            for t, d in terms.items()) + "</dl>")
 
     def table(self, rows: list[dict], columns: dict | None = None, caption: str = "") -> None:
         """A table of dict rows; ``columns`` maps keys to headers (default: the first row's
@@ -58,7 +122,7 @@ class Report:
                 cls = ' class="text"' if isinstance(value, str) else ""
                 cells.append(f"<td{cls}>{html.escape(text)}</td>")
             body.append("<tr>" + "".join(cells) + "</tr>")
-        cap = (f'<div class="table-caption">{html.escape(caption)}</div>' if caption else "")
+        cap = (f'<div class="table-caption">{_linked(caption)}</div>' if caption else "")
         # wide tables scroll inside their box instead of being cut at the page's width; the
         # caption stays outside the box, so it wraps instead of scrolling away
         self.parts.append(f'{cap}<div class="table-scroll"><table><tr>{head}</tr>'
@@ -67,9 +131,10 @@ class Report:
     def figure(self, png, caption: str = "") -> None:
         """Embed a PNG file."""
         data = base64.b64encode(Path(png).read_bytes()).decode()
-        cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
+        cap = f"<figcaption>{_linked(caption)}</figcaption>" if caption else ""
+        alt = _LINK.sub(lambda m: m.group(2) or m.group(1), caption)
         self.parts.append(f'<figure><img src="data:image/png;base64,{data}" '
-                          f'alt="{html.escape(caption)}">{cap}</figure>')
+                          f'alt="{html.escape(alt)}">{cap}</figure>')
 
     def html(self) -> str:
         return (f"<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"

@@ -45,10 +45,16 @@ _CHECK = """
               box_width: box.clientWidth, box_scroll_width: box.scrollWidth,
               scrolls: scrolls, view: view});
   });
+  var s = document.querySelector('.summary'), summary = null;
+  if (s) {
+    summary = {bottom: s.getBoundingClientRect().bottom + window.scrollY,
+               figure: !!s.querySelector('img'), table: !!s.querySelector('table')};
+  }
   var pre = document.createElement('pre');
   pre.id = 'layout-check';
   pre.textContent = JSON.stringify({height: document.documentElement.scrollHeight,
-                                    tables: out});
+                                    page_width: document.documentElement.scrollWidth,
+                                    view: view, summary: summary, tables: out});
   document.body.appendChild(pre);
 })();
 </script>
@@ -73,17 +79,29 @@ def _run(chromium: str, args: list[str], timeout: float = 120) -> str:
     return result.stdout
 
 
-def layout(report: Path, width: int, chromium: str) -> dict:
-    """Tables of ``report`` laid out in a ``width`` px window: ``{"height": page height [px],
+#: Width [CSS px] of an A4 page's printable area with the report's 12 mm margins:
+#: (210 − 2 × 12) mm at 96 px per inch.
+A4_PRINT_WIDTH = round((210 - 2 * 12) / 25.4 * 96)
+
+
+def layout(report: Path, width: int, chromium: str, *, height: int = 1000,
+           media: str = "screen") -> dict:
+    """Tables of ``report`` laid out in a ``width`` × ``height`` px window: ``{"height": page
+    height [px], "page_width": its scroll width [px], "view": the window's width, "summary":
+    the Summary's bottom [px] and whether it holds a figure and a table (None without one),
     "tables": [...]}``, each table with its right edge and width, its box's right edge, width
     and scroll width, and whether the box scrolls horizontally; ``"cut"`` is added: the table
-    reaches beyond the window and no scrolling box holds it."""
+    reaches beyond the window and no scrolling box holds it. ``media="print"`` lays the page
+    out with its print style sheet (at ``width``: :data:`A4_PRINT_WIDTH` for A4), where no box
+    can scroll: a table is cut when it reaches beyond the page."""
     page = Path(report).read_text(encoding="utf-8")
+    if media == "print":  # the print rules, applied on screen
+        page = page.replace("@media print", "@media all")
     checked = page.replace("</body>", _CHECK + "</body>")
     with tempfile.TemporaryDirectory(prefix="dfp-layout-") as tmp:
         copy = Path(tmp) / "report.html"
         copy.write_text(checked, encoding="utf-8")
-        dom = _run(chromium, [f"--window-size={width},1000", "--dump-dom", copy.as_uri()])
+        dom = _run(chromium, [f"--window-size={width},{height}", "--dump-dom", copy.as_uri()])
     m = re.search(r'<pre id="layout-check">(.*?)</pre>', dom, re.S)
     if not m:
         raise RuntimeError("the layout check did not run in the page")
@@ -91,8 +109,16 @@ def layout(report: Path, width: int, chromium: str) -> dict:
     data = json.loads(text.replace("&amp;", "&"))
     for t in data["tables"]:
         inside = t["table_right"] <= t["view"] + 0.5
-        t["cut"] = not inside and not (t["scrolls"] and t["box_right"] <= t["view"] + 0.5)
+        scrolls = t["scrolls"] and media != "print"
+        t["cut"] = not inside and not (scrolls and t["box_right"] <= t["view"] + 0.5)
     return data
+
+
+def print_pdf(report: Path, pdf: Path, chromium: str) -> Path:
+    """``report`` printed to ``pdf`` by Chromium (its print style sheet, A4)."""
+    _run(chromium, [f"--print-to-pdf={pdf}", "--no-pdf-header-footer",
+                    Path(report).resolve().as_uri()])
+    return pdf
 
 
 def screenshot(report: Path, width: int, png: Path, chromium: str, height: int) -> Path:
