@@ -1,6 +1,6 @@
 """Documents that cannot drift from the code: the theory index (docs/theory/README.md) names, for
 each file, the range of equations it holds, checked here against the equations numbered in the
-files; and the README's Layout section is checked against the tree."""
+files; and the Layout section (docs/architecture.md) is checked against the tree."""
 
 from __future__ import annotations
 
@@ -56,16 +56,20 @@ def test_the_index_checker_reads_the_index():
     assert len(_index()) == len([p for p in THEORY.glob("*.md") if p.name != "README.md"]) == 5
 
 
-# -- the README's Layout --------------------------------------------------------------------
+# -- the Layout (docs/architecture.md) ---------------------------------------------------
 
 PACKAGES = ("rigid", "fem", "validation")
 
 
+#: The document whose Layout section lists the repository (the README's until issue #32).
+LAYOUT = ROOT / "docs" / "architecture.md"
+
+
 def _layout() -> dict[str, str]:
-    """The Layout block of the README, by top-level entry: {"rigid/": its lines, ...}."""
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    block = re.search(r"^## Layout\n+```\n(.*?)^```", text, re.MULTILINE | re.DOTALL)
-    assert block, "README.md has no Layout code block"
+    """The Layout block of :data:`LAYOUT`, by top-level entry: {"rigid/": its lines, ...}."""
+    text = LAYOUT.read_text(encoding="utf-8")
+    block = re.search(r"^## Layout\n[^`]*?^```\n(.*?)^```", text, re.MULTILINE | re.DOTALL)
+    assert block, f"{LAYOUT.name} has no Layout code block"
     sections: dict[str, str] = {}
     current = None
     for line in block.group(1).splitlines():
@@ -99,7 +103,7 @@ def _top_level() -> set[str]:
 def test_the_layout_lists_every_top_level_folder_and_only_those():
     listed = set(_layout())
     tracked = _top_level()
-    assert tracked - listed == set(), f"missing from the README's Layout: {tracked - listed}"
+    assert tracked - listed == set(), f"missing from the Layout: {tracked - listed}"
     assert listed - tracked == set(), f"in the Layout but not in the tree: {listed - tracked}"
 
 
