@@ -120,12 +120,14 @@ def pulses(args) -> int:
     motion = _record(args)
     found = []
     print(f"{motion.name}: dt = {motion.dt:g} s, {motion.acceleration.size} samples")
-    print("criterion  kind           Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
+    print(f"weighting {args.weighting}, pulse periods up to {args.max_period:g} s")
+    print("criterion  kind           w(s)       Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
     for criterion in (1, 2, 3, 4):
-        p = best_pulse(motion, criterion=criterion, weighting=args.weighting)
+        p = best_pulse(motion, criterion=criterion, weighting=args.weighting,
+                       max_period=args.max_period)
         found.append(p)
-        print(f"{criterion:9d}  {p.kind:13s} {p.period:7.3f} {p.amplitude / G:8.3f} "
-              f"{p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
+        print(f"{criterion:9d}  {p.kind:13s} {p.weighting:9s} {p.period:7.3f} "
+              f"{p.amplitude / G:8.3f} {p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
     path = plot_record_pulses(motion, found, out / "pulses.png", title=motion.name)
     print(f"plot: {path}")
     return 0
@@ -150,7 +152,8 @@ def critical(args) -> int:
                          after_failure=args.after_failure, **rims)
     print(actual.summary())
     predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
-                                    stop=args.stop * G, search=args.search, **rims)
+                                    stop=args.stop * G, search=args.search,
+                                    weighting=args.weighting, max_period=args.max_period, **rims)
     print(predicted.summary())
     uncertain = [what for what, r in (("critical SA", actual), ("prediction", predicted))
                  if r.uncertain]
