@@ -88,3 +88,42 @@ def _ring_law(bearing: DFPBearing) -> RimLaw:
         hinge_displacement=push.hinge_displacement if hinged else None,
         hinge_force=push.hinge_force if hinged else None)
     return rim_law_from_push(bearing, stiffness, curve, curve)
+
+
+def effective_rim_depth(bearing: DFPBearing, limit_state: str) -> float:
+    """The 3-D rim's effective depth at a limit state [m] (Eq. F59): the force of the 3-D push
+    of the rim as a ring at that state over the 2-D push's force per unit depth there, so that
+    the plane-strain rim given this depth carries the ring's force at the state checked.
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    limit_state : {"hinge", "rupture", "containment"}
+        The hinge, the rupture strain, or (for the loss of containment) the push's largest
+        force.
+
+    Returns
+    -------
+    float [m]
+        ValueError if either push does not reach the state.
+    """
+    import numpy as np
+
+    from rigid.limit_states import check_limit_state
+
+    from .dfp import out_of_plane_depth
+
+    limit_state = check_limit_state(limit_state)
+
+    def force(law: RimLaw) -> float:
+        if limit_state == "hinge":
+            return law.hinge_force
+        if limit_state == "rupture":
+            if not math.isfinite(law.rupture_displacement):
+                raise ValueError("the rim does not reach the rupture strain within the push")
+            return float(np.interp(law.rupture_displacement, law.push_displacement,
+                                   law.push_force))
+        return float(np.max(law.push_force))
+
+    ring, plane = rim_law(bearing, model="ring"), rim_law(bearing)
+    return force(ring) / force(plane) * out_of_plane_depth(bearing)

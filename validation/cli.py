@@ -30,6 +30,7 @@ from rigid.limits import (
     RICKER_PERIOD_RANGE,
 )
 from rigid.motions import ALL_WEIGHTINGS, FEMA_P695_SETS, KINDS, MAX_PULSE_PERIOD, WEIGHTINGS
+from rigid.rims import RIM_LAW_MODELS
 from rigid.units import G
 
 from .commands import (  # the commands, and what their help texts quote
@@ -271,6 +272,11 @@ def _validate_parser(sub):
                    "state, where the FE searches then start")
     p.add_argument("--fem-kinematics", choices=("finite", "small"), default="finite",
                    help="FE kinematics: finite deformation (default) or small strain")
+    p.add_argument("--rim-model", choices=RIM_LAW_MODELS, default=RIM_LAW_MODELS[0],
+                   help="the rims' strength: the plane-strain rim times the depth πb/4 "
+                   "(default), or the 3-D push of the rim as a ring (the yielding rims' law, "
+                   "and the FE rims' effective depth at the one limit state searched; the "
+                   "first use of a rim geometry runs a 3-D push, about half an hour)")
     p.add_argument("--rim-thickness", type=_RIM_SIZE,
                    help="a bearing variant: the rims' thickness [mm] (default 40)")
     p.add_argument("--rim-height", type=_RIM_SIZE,

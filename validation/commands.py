@@ -5,10 +5,12 @@ into one line by :func:`validation.cli.main`."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from pathlib import Path
 
+from rigid.bearing import DFPBearing
 from rigid.limit_states import check_limit_state
 from rigid.limits import MAX_RECORD_ACCELERATION
 from rigid.motions import FEMA_P695_SETS
@@ -207,6 +209,10 @@ def validate(args) -> int:
         fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
                          kinematics=args.fem_kinematics,
                          limit_states=tuple(dict.fromkeys(args.limit_state)))
+    bearing = tuple((field, getattr(args, field) / 1e3) for field in ("rim_thickness",
+                    "rim_height") if getattr(args, field) is not None)
+    if args.rim_model == "ring" and fem is not None:
+        fem = dataclasses.replace(fem, rim_depth=_ring_depth(bearing, fem.limit_states))
     settings = Settings(
         pressures=tuple(p * 1e6 for p in args.pressure), criteria=tuple(criteria),
         stop=args.stop * G, search=args.search, fem=fem,
@@ -214,8 +220,7 @@ def validate(args) -> int:
         fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
         rims=tuple(dict.fromkeys(["rigid", *args.rims])),
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
-        bearing=tuple((field, getattr(args, field) / 1e3) for field in ("rim_thickness",
-                      "rim_height") if getattr(args, field) is not None),
+        bearing=bearing, rim_model=args.rim_model,
     )
     for pressure in settings.pressures:  # a variant that is no bearing fails here, in one line
         try:
@@ -257,6 +262,20 @@ def validate(args) -> int:
                         fem=fem_results)
     print(f"report: {path}")
     return 0
+
+
+def _ring_depth(bearing, limit_states) -> float:
+    """The FE rims' depth under ``--rim-model ring``: the ring's effective depth at the one
+    limit state searched (:func:`fem.effective_rim_depth`; it differs between limit states)."""
+    if len(limit_states) != 1:
+        raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
+                           "the limit state searched: give one --limit-state per run")
+    from fem import effective_rim_depth
+
+    try:
+        return effective_rim_depth(DFPBearing(**dict(bearing)), limit_states[0])
+    except ValueError as exc:
+        raise CommandError(str(exc)) from None
 
 
 def _rim_options(args, bearing) -> dict:
