@@ -21,7 +21,9 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 * :mod:`fem.limit_states` — hinge, rupture and containment, watched during a run.
 * :mod:`fem.pushover` — :func:`rim_pushover`, the static push of a rim.
 * :mod:`fem.rim_laws` — :func:`rim_law`, the yielding rims' law from pushes of the rim, the
-  data :func:`rigid.simulate` takes with ``rims="yielding"`` (cached per rim geometry).
+  data :func:`rigid.simulate` takes with ``rims="yielding"`` (cached per rim geometry and
+  model, plane strain or the ring), and :func:`effective_rim_depth`, the depth that gives the
+  plane-strain rim the ring's force at a limit state (``simulate(rim_depth=…)``).
 * :mod:`fem.output` — VTU files and pictures (meshio, pyvista).
 * :mod:`fem.ring` — the rim as a ring: 3-D static pushes of the rim and the effective depth
   of the plane-strain rim (imported on its own: ``from fem.ring import ring_push``).
@@ -34,7 +36,7 @@ from .limit_states import LIMIT_STATES
 from .material import Material, MaterialState, ReturnMapResult, return_map, von_mises
 from .model import FEMResult, simulate
 from .pushover import rim_pushover
-from .rim_laws import rim_law
+from .rim_laws import effective_rim_depth, rim_law
 
 __all__ = [
     "LIMIT_STATES",
@@ -42,6 +44,7 @@ __all__ = [
     "Material",
     "MaterialState",
     "ReturnMapResult",
+    "effective_rim_depth",
     "return_map",
     "rim_law",
     "rim_pushover",

@@ -55,6 +55,9 @@ class PlaneStrainQ1:
         Use the mean-dilatation B-bar strain (recommended for plasticity).
     intorder : int
         Quadrature order; 2 gives the 2 × 2 Gauss rule.
+    thickness : array_like, shape (nelems,), optional
+        Out-of-plane thickness of each element relative to the model's depth [-] (default
+        1): it multiplies the element's stiffness, forces and strain energy (Eq. F59).
 
     Attributes
     ----------
@@ -63,15 +66,21 @@ class PlaneStrainQ1:
     B : ndarray, shape (4, 8, nelems, nqp) [1/m]
         Strain–displacement array.
     dx : ndarray, shape (nelems, nqp) [m²]
-        Quadrature weights times Jacobians (per unit thickness).
+        Quadrature weights times Jacobians (per unit depth), times the element's relative
+        thickness.
     """
 
-    def __init__(self, mesh: Mesh, bbar: bool = True, intorder: int = 2):
+    def __init__(self, mesh: Mesh, bbar: bool = True, intorder: int = 2, thickness=None):
         self.mesh = mesh
         self.bbar = bbar
         self.basis = Basis(mesh, ElementVector(ElementQuad1()), intorder=intorder)
         self.B = strain_displacement(self.basis, bbar=bbar)
         self.dx = self.basis.dx
+        if thickness is not None:
+            thickness = np.asarray(thickness, dtype=float)
+            if thickness.shape != (self.dx.shape[0],) or not np.all(thickness > 0):
+                raise ValueError("thickness must hold one positive factor per element")
+            self.dx = self.dx * thickness[:, None]
         self.element_dofs = self.basis.element_dofs  # (8, nelems)
         self.ndofs = self.basis.N
         # Batched-matmul layout for the tangent: B as (nel, nqp, 4, 8), and Bᵀ·dx stacked over

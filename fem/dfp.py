@@ -6,6 +6,7 @@ lumped masses, weights and the ground's influence vector, all per unit out-of-pl
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -76,6 +77,7 @@ def build_system(
     plasticity: bool = True,
     kinematics: str = "small",
     edge_radius: float = 0.0,
+    rim_depth: float | None = None,
     cache_dir=None,
 ) -> DFPSystem:
     """Assemble the plane-strain DFP model of a bearing.
@@ -104,6 +106,9 @@ def build_system(
     kinematics : {"small", "finite"}
         Small strain (Q1 B-bar, :mod:`fem.assembly`) or finite deformation of the plates and
         rims (mean-dilatation Q1 with Hencky J2, :mod:`fem.finite_element`).
+    rim_depth : float [m], optional
+        Out-of-plane depth of the rims' steel, when it differs from the model's depth πb/4:
+        the 3-D rim's effective depth (:func:`fem.effective_rim_depth`; Eq. F59).
     cache_dir : path-like, optional
         Mesh cache.
 
@@ -125,8 +130,10 @@ def build_system(
     m = dfp.mesh
     if kinematics not in KINEMATICS:
         raise ValueError(f"kinematics must be 'small' or 'finite', got {kinematics!r}")
-    fe = FiniteStrainQ1(m) if kinematics == "finite" else PlaneStrainQ1(m)
     depth = out_of_plane_depth(bearing)
+    thickness = _rim_thickness_factors(m, depth, rim_depth)
+    fe = (FiniteStrainQ1(m, thickness=thickness) if kinematics == "finite"
+          else PlaneStrainQ1(m, thickness=thickness))
 
     boundaries = {}
     for plate in ("bottom", "top"):
@@ -161,6 +168,19 @@ def build_system(
         bearing, depth, m, system, reduction, mass, gravity, influence, top_x, top_z, slider,
         rim_root_rows(m, bearing),
     )
+
+
+def _rim_thickness_factors(mesh, depth: float, rim_depth: float | None):
+    """Relative thickness of every element (Eq. F59): rim_depth/depth in both plates' rims, 1
+    elsewhere; None when the rims have the model's depth."""
+    if rim_depth is None:
+        return None
+    if not (math.isfinite(rim_depth) and rim_depth > 0):
+        raise ValueError(f"rim_depth must be a positive length [m], got {rim_depth!r}")
+    thickness = np.ones(mesh.t.shape[1])
+    for sub in ("bottom_rim", "top_rim"):
+        thickness[mesh.subdomains[sub]] = rim_depth / depth
+    return thickness
 
 
 def rim_root_rows(mesh, bearing: DFPBearing, plates=("bottom", "top")) -> dict:

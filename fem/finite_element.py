@@ -67,12 +67,14 @@ class FiniteStrainQ1(PlaneStrainQ1):
         Reference mesh, coordinates [m].
     intorder : int
         Quadrature order (2: the 2 × 2 Gauss rule).
+    thickness : array_like, optional
+        Relative thickness of each element (:class:`fem.assembly.PlaneStrainQ1`).
     """
 
     kinematics = "finite"
 
-    def __init__(self, mesh, intorder: int = 2):
-        super().__init__(mesh, bbar=True, intorder=intorder)
+    def __init__(self, mesh, intorder: int = 2, thickness=None):
+        super().__init__(mesh, bbar=True, intorder=intorder, thickness=thickness)
         grads = np.array([phi[0].grad for phi in self.basis.basis])  # (8, 2, 2, nel, nqp)
         nbf = grads.shape[0]
         G = grads.transpose(1, 2, 0, 3, 4).reshape(4, nbf, *grads.shape[3:])  # rows iJ

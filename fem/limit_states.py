@@ -58,7 +58,7 @@ def rim_gauge_average(fe, mesh, rim: str, gauge: float) -> tuple[np.ndarray, sp.
     centroid_x = mesh.p[0, mesh.t[:, elems]].mean(axis=0)
     elems = elems[np.sign(centroid_x) == (1.0 if side == "+x" else -1.0)]
     points = np.asarray(fe.basis.global_coordinates())[:, elems].reshape(2, -1)
-    return elems, averaging_operator(points, fe.dx[elems].ravel(), 0.5 * gauge)
+    return elems, averaging_operator(points, fe.basis.dx[elems].ravel(), 0.5 * gauge)  # geometric
 
 
 class LimitStates:

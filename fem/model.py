@@ -215,6 +215,7 @@ def simulate(
     kinematics: str = "finite",
     energy_tolerance: float = 1e-3,
     edge_radius: float = 0.0,
+    rim_depth: float | None = None,
     cache_dir=None,
 ) -> FEMResult:
     """Run the plane-strain FE model of the DFP bearing on a horizontal ground acceleration.
@@ -273,6 +274,10 @@ def simulate(
         Radius of the slider's rounded edges, smaller than half the height of its flat sides
         (0: sharp edges, the rigid model's slider; what rounding changes: docs/fe-companion.md,
         "Rounded slider edges").
+    rim_depth : float [m], optional
+        Out-of-plane depth of the rims' steel instead of the model's πb/4: the 3-D rim's
+        effective depth at the limit state checked (:func:`fem.effective_rim_depth`; Eq.
+        F59).
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -299,7 +304,7 @@ def simulate(
     model = build_system(
         bearing, mesh_options=mesh_options, penalty_factor=penalty_factor,
         vertex_contact=vertex_contact, plasticity=plasticity, kinematics=kinematics,
-        edge_radius=edge_radius, cache_dir=cache_dir,
+        edge_radius=edge_radius, rim_depth=rim_depth, cache_dir=cache_dir,
     )
     red, depth = model.reduction, model.depth
     rim_of = rim_of_nodes(model)

@@ -10,6 +10,8 @@ rims="yielding", rim_law=law)``.
 
 from __future__ import annotations
 
+import math
+
 from rigid.bearing import DFPBearing
 from rigid.rims import (
     ELASTIC_PUSH,
@@ -26,16 +28,21 @@ from .pushover import rim_pushover
 __all__ = ["rim_law"]
 
 
-def rim_law(bearing: DFPBearing, *, cache: bool = True) -> RimLaw:
-    """The law of the bearing's rims, from pushes of the FE companion's rim (finite
-    deformation, default mesh; docs/theory/finite-elements.md, "Rim push"), cached in the
-    library's cache folder (:func:`rigid.rims.rim_law_cache_file`) per geometry and steel; the
-    first call for a bearing runs the pushes (about 20 s of CPU).
+def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", cache: bool = True) -> RimLaw:
+    """The law of the bearing's rims, from pushes of its rim by the FE companion, cached in the
+    library's cache folder (:func:`rigid.rims.rim_law_cache_file`) per model, geometry and
+    steel.
 
     Parameters
     ----------
     bearing : DFPBearing
         Its rims' geometry, steel and rupture strain (the pressure does not matter).
+    model : {"plane-strain", "ring"}
+        ``"plane-strain"``: pushes of the 2-D rim (finite deformation, default mesh;
+        docs/theory/finite-elements.md, "Rim push") times the depth πb/4 (Eqs. F1–F3), about
+        20 s of CPU the first time. ``"ring"``: the 3-D push of the rim as a ring by the
+        slider, a rigid cylinder (small strain, default 3-D mesh; "The rim as a ring", Eqs.
+        F54–F58), about half an hour of CPU the first time.
     cache : bool
         Read and write the cache.
 
@@ -43,9 +50,16 @@ def rim_law(bearing: DFPBearing, *, cache: bool = True) -> RimLaw:
     -------
     rigid.rims.RimLaw
     """
-    path = rim_law_cache_file(bearing)
+    path = rim_law_cache_file(bearing, model)
     if cache and path.exists():
         return load_rim_law(path)
+    law = _plane_strain_law(bearing) if model == "plane-strain" else _ring_law(bearing)
+    if cache:
+        save_rim_law(law, path)
+    return law
+
+
+def _plane_strain_law(bearing: DFPBearing) -> RimLaw:
     elastic = rim_pushover(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
     stiffness = float(elastic.force[-1] / elastic.displacement[-1])
     reach, steps = FINE_PUSH
@@ -54,7 +68,62 @@ def rim_law(bearing: DFPBearing, *, cache: bool = True) -> RimLaw:
         reach, steps = 2 * reach, 2 * steps
         fine = rim_pushover(bearing, displacement=reach, steps=steps)
     full = rim_pushover(bearing)
-    law = rim_law_from_push(bearing, stiffness, fine, full)
-    if cache:
-        save_rim_law(law, path)
-    return law
+    return rim_law_from_push(bearing, stiffness, fine, full)
+
+
+def _ring_law(bearing: DFPBearing) -> RimLaw:
+    """The law from one 3-D push by the cylinder to half the rim height: its curve, hinge and
+    gauge-averaged plastic strain (Eq. F58) in the roles of the 2-D pushes'."""
+    from types import SimpleNamespace
+
+    from .ring import Load, ring_push
+
+    elastic = ring_push(bearing, Load("cylinder"), displacement=ELASTIC_PUSH, plasticity=False)
+    stiffness = float(elastic.force[-1] / elastic.displacement[-1])
+    push = ring_push(bearing, Load("cylinder"))
+    hinged = math.isfinite(push.hinge_displacement)
+    curve = SimpleNamespace(
+        displacement=push.displacement, force=push.force,
+        averaged_plastic_strain=push.gauge_plastic_strain,
+        hinge_displacement=push.hinge_displacement if hinged else None,
+        hinge_force=push.hinge_force if hinged else None)
+    return rim_law_from_push(bearing, stiffness, curve, curve)
+
+
+def effective_rim_depth(bearing: DFPBearing, limit_state: str) -> float:
+    """The 3-D rim's effective depth at a limit state [m] (Eq. F59): the force of the 3-D push
+    of the rim as a ring at that state over the 2-D push's force per unit depth there, so that
+    the plane-strain rim given this depth carries the ring's force at the state checked.
+
+    Parameters
+    ----------
+    bearing : DFPBearing
+    limit_state : {"hinge", "rupture", "containment"}
+        The hinge, the rupture strain, or (for the loss of containment) the push's largest
+        force.
+
+    Returns
+    -------
+    float [m]
+        ValueError if either push does not reach the state.
+    """
+    import numpy as np
+
+    from rigid.limit_states import check_limit_state
+
+    from .dfp import out_of_plane_depth
+
+    limit_state = check_limit_state(limit_state)
+
+    def force(law: RimLaw) -> float:
+        if limit_state == "hinge":
+            return law.hinge_force
+        if limit_state == "rupture":
+            if not math.isfinite(law.rupture_displacement):
+                raise ValueError("the rim does not reach the rupture strain within the push")
+            return float(np.interp(law.rupture_displacement, law.push_displacement,
+                                   law.push_force))
+        return float(np.max(law.push_force))
+
+    ring, plane = rim_law(bearing, model="ring"), rim_law(bearing)
+    return force(ring) / force(plane) * out_of_plane_depth(bearing)

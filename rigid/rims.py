@@ -21,8 +21,13 @@ import numpy as np
 
 from .bearing import DFPBearing
 
-__all__ = ["RimLaw", "load_rim_law", "resolve_rim_law", "rim_law", "rim_law_cache_file",
-           "rim_law_from_push", "save_rim_law"]
+__all__ = ["RIM_LAW_MODELS", "RimLaw", "load_rim_law", "resolve_rim_law", "rim_law",
+           "rim_law_cache_file", "rim_law_from_push", "save_rim_law"]
+
+#: The models a law can come from (``fem.rim_law(bearing, model=…)``): pushes of the
+#: plane-strain rim times the depth πb/4 (Eqs. F1–F3), or the 3-D push of the rim as a ring
+#: by the slider (Eqs. F54–F58).
+RIM_LAW_MODELS = ("plane-strain", "ring")
 
 #: The push (fem.rim_pushover, run by fem.rim_law): to 1.5 mm in 60 increments of 0.025 mm,
 #: which resolve the bend from the elastic line to the hinge (about 0.1–0.6 mm for the
@@ -147,16 +152,20 @@ def _beyond_push(sets, forces, lever):
             np.concatenate([forces, forces[-1] * c_end / cos]))
 
 
-def rim_law_cache_file(bearing: DFPBearing) -> Path:
+def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain") -> Path:
     """Where the law of a bearing's rims is cached: ``rim-laws/<key>.npz`` in the library's
-    cache folder (:func:`rigid.tasks.cache_root`), keyed by the rim geometry and steel (every
-    field of the bearing but the pressure), the push settings above and the code of the FE
-    companion and of this module (``code_hash("fem", "rim-law")``)."""
+    cache folder (:func:`rigid.tasks.cache_root`), keyed by the model it comes from
+    (:data:`RIM_LAW_MODELS`), the rim geometry and steel (every field of the bearing but the
+    pressure), the push settings above and the code of the pushing model and of this module
+    (``code_hash("fem", "rim-law")`` or ``code_hash("fem-ring", "rim-law")``)."""
     from .tasks import cache_root, task_key
 
+    if model not in RIM_LAW_MODELS:
+        raise ValueError(f"model must be one of {', '.join(RIM_LAW_MODELS)}, got {model!r}")
     # the bottom plate and its steel: everything but the load on it
     inputs = {k: v for k, v in dataclasses.asdict(bearing).items() if k != "pressure"}
-    key = task_key("rim-law", ("fem", "rim-law"), bearing=inputs, fine=FINE_PUSH,
+    code = ("fem", "rim-law") if model == "plane-strain" else ("fem-ring", "rim-law")
+    key = task_key("rim-law", code, model=model, bearing=inputs, fine=FINE_PUSH,
                    elastic=ELASTIC_PUSH, lever=LEVER_FRACTION, last_cos=LAST_COS)
     return cache_root() / "rim-laws" / f"{key}.npz"
 

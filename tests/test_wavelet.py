@@ -249,10 +249,88 @@ def test_several_candidates_are_kept():
 @pytest.mark.parametrize("criterion,tp", [(1, 0.4), (2, 4.0), (3, 0.4), (4, 4.0)])
 def test_four_criteria(criterion, tp):
     # By construction (see two_pulse_record): max e_a selects the short pulse, max e_v the
-    # long one, from either record (paper §4.1). Tp to 2 %.
-    p = best_pulse(two_pulse_record(), criterion=criterion)
+    # long one, from either record (paper §4.1). Tp to 2 %. One weighting, the unbiased one.
+    p = best_pulse(two_pulse_record(), criterion=criterion, weighting="1/sqrt(s)")
     assert p.period == pytest.approx(tp, rel=0.02)
     assert p.source == ("acceleration" if criterion <= 2 else "velocity")
+
+
+def _e_v_by_hand(record, period, t0, step=0.001):
+    """Paper Eq. 9 for a symmetric pulse of (period, t0) fitted to ``record`` by least squares
+    in acceleration, on a 10 times finer grid than the record's (the record interpolated
+    linearly: the same piecewise-linear acceleration the trapezoids integrate)."""
+    t = np.arange(0.0, record.duration + step / 2, step)
+    a_g = np.interp(t, np.arange(record.acceleration.size) * record.dt, record.acceleration)
+    a_1 = ricker(t, 1.0, period, "symmetric", t0=t0)
+    amp = trapezoid(a_g * a_1, t) / trapezoid(a_1 * a_1, t)
+    v_g = cumulative_trapezoid(a_g, t, initial=0)
+    v_p = amp * cumulative_trapezoid(a_1, t, initial=0)
+    return trapezoid(v_g * v_p, t) / trapezoid(v_g * v_g, t)
+
+
+@pytest.mark.parametrize("weighting,p", [("1/sqrt(s)", 0.5), ("1/s", 1.0), ("1", 0.0)])
+def test_each_weighting_finds_the_long_pulse_at_its_biased_period(weighting, p):
+    # Criterion 2 (acceleration record, largest e_v) picks the long pulse of two_pulse_record
+    # whatever the weighting, at the period Eq. M25 shifts by sqrt((n+1-p)/(n+p)), n = 2
+    # (symmetric, acceleration): Tp to 2 % (the grid's step, refined); e_v recomputed by hand
+    # to 1 % (the hand grid is 10 times finer than the record's).
+    record = two_pulse_record()
+    pulse = best_pulse(record, criterion=2, weighting=weighting)
+    assert pulse.weighting == weighting
+    assert pulse.period == pytest.approx(4.0 * math.sqrt((3 - p) / (2 + p)), rel=0.02)
+    assert pulse.e_v == pytest.approx(_e_v_by_hand(record, pulse.period, pulse.time), rel=0.01)
+
+
+def test_paper_procedure_pools_the_three_weightings():
+    # The paper's procedure (weighting "all", the default) takes the criterion's maximum over
+    # the candidates of the three weightings: the single-weighting answers above, e_v by hand
+    # at their periods (M25), decide which one it returns; e_v is not maximised by the
+    # unbiased period (it is the other domain's index, Eq. M30's note), so a biased one wins.
+    record = two_pulse_record()
+    by_hand = {w: _e_v_by_hand(record, 4.0 * math.sqrt((3 - p) / (2 + p)), 20.0)
+               for w, p in (("1/sqrt(s)", 0.5), ("1/s", 1.0), ("1", 0.0))}
+    winner = max(by_hand, key=by_hand.get)
+    pooled = best_pulse(record, criterion=2)
+    assert pooled.weighting == winner
+    assert pooled == best_pulse(record, criterion=2, weighting=winner)
+    assert by_hand[winner] > 1.02 * sorted(by_hand.values())[-2]  # the case is not a near-tie
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_paper_procedure_on_a_pure_pulse(kind):
+    # A record that is one Ricker pulse (Tp 2.5 s, 1 m/s²). Pooling the three weightings,
+    # criteria 1 and 4 (each index in its transform's own domain) return it exactly (Tp, Ap
+    # to 1e-6: Eq. M24), while criteria 2 and 3 (the other domain's index, unbounded above:
+    # note to Eq. M30) take a biased candidate whose index exceeds 1: w = 1 on acceleration
+    # and w = 1/s on velocity, at the periods of Eq. M25 (to 1 %, the refinement on a 2 % grid).
+    dt, tp = 0.01, 2.5
+    _, a = rigid.ricker_record(1.0, tp, kind, dt=dt, free=5.0)
+    n = {"symmetric": 2, "antisymmetric": 3}[kind]
+    for criterion in (1, 4):
+        p = best_pulse(a, criterion=criterion, dt=dt)
+        assert (p.weighting, p.kind) == ("1/sqrt(s)", kind)
+        assert (p.period, p.amplitude) == pytest.approx((tp, 1.0), rel=1e-6)
+    for criterion, weighting, m, exponent, index in ((2, "1", n, 0.0, "e_v"),
+                                                     (3, "1/s", n - 1, 1.0, "e_a")):
+        p = best_pulse(a, criterion=criterion, dt=dt)
+        assert (p.weighting, p.kind) == (weighting, kind)
+        ratio = math.sqrt((m + 1 - exponent) / (m + exponent))  # Eq. M25
+        assert p.period == pytest.approx(tp * ratio, rel=0.01)
+        assert getattr(p, index) > 1.0
+
+
+def test_pulse_period_capped_at_the_papers_limit():
+    # A pure 9 s pulse: with the paper's 7.5 s cap (the default) no period exceeds 7.5 s and the
+    # grid's top is taken; with the cap at 12 s (the default before 2026-11-26) it is found
+    # at 9 s to 2 %.
+    dt = 0.02
+    t = np.arange(0.0, 90.0, dt)
+    record = rigid.GroundMotion("9 s pulse", dt, ricker(t, 0.2 * G, 9.0, "symmetric", t0=45.0))
+    for criterion in (1, 2, 3, 4):
+        assert best_pulse(record, criterion=criterion).period <= 7.5
+    assert best_pulse(record, criterion=4, weighting="1/sqrt(s)").period == pytest.approx(7.5)
+    assert best_pulse(record, criterion=4, weighting="1/sqrt(s)",
+                      max_period=12.0).period == pytest.approx(9.0, rel=0.02)
 
 
 def test_bad_arguments():
@@ -265,6 +343,8 @@ def test_bad_arguments():
         extract_pulse(m, kind="morlet")
     with pytest.raises(ValueError):
         best_pulse(m, criterion=5)
+    with pytest.raises(ValueError, match="the paper's procedure"):
+        best_pulse(m, weighting="paper")
     with pytest.raises(ValueError):
         extract_pulse(np.zeros(100), dt=0.01)
 

@@ -30,7 +30,8 @@ from rigid.limits import (
     RICKER_AMPLITUDE_MAX,
     RICKER_PERIOD_RANGE,
 )
-from rigid.motions import FEMA_P695_SETS, KINDS, WEIGHTINGS
+from rigid.motions import ALL_WEIGHTINGS, FEMA_P695_SETS, KINDS, MAX_PULSE_PERIOD, WEIGHTINGS
+from rigid.rims import RIM_LAW_MODELS
 from rigid.units import G
 
 from .commands import (  # the commands, and what their help texts quote
@@ -244,10 +245,19 @@ def _pulses_parser(sub):
     p = sub.add_parser("pulses", help="best Ricker pulses of a record (criteria 1-4)",
                        description=pulses.__doc__)
     _record_args(p, required=True)
-    p.add_argument("--weighting", choices=WEIGHTINGS, default=WEIGHTINGS[0],
-                   help="wavelet weighting w(s) (default 1/sqrt(s), the unbiased one)")
+    _pulse_args(p)
     p.add_argument("--out", default="dfp-pulses", help="output folder")
     p.set_defaults(func=pulses)
+
+
+def _pulse_args(p):
+    """The pulse extraction's options (paper §4.1)."""
+    p.add_argument("--weighting", choices=(ALL_WEIGHTINGS, *WEIGHTINGS), default=ALL_WEIGHTINGS,
+                   help="wavelet weighting w(s): 'all' pools the candidates of the three, as "
+                   "the paper does (default); 1/sqrt(s) alone is the one unbiased on a pure pulse")
+    p.add_argument("--max-period", type=_positive(float), default=MAX_PULSE_PERIOD,
+                   help=f"longest pulse period searched [s] (default {MAX_PULSE_PERIOD:g}, the "
+                   "paper's limit)")
 
 
 def _critical_parser(sub):
@@ -264,6 +274,7 @@ def _critical_parser(sub):
                    help="rungs run above the first failure, to show resurrections (default 10)")
     p.add_argument("--criterion", type=int, choices=(1, 2, 3, 4), default=4,
                    help="pulse selection criterion of the prediction (default 4)")
+    _pulse_args(p)
     _rim_args(p)
     p.set_defaults(func=critical)
 
@@ -329,6 +340,11 @@ def _validate_parser(sub):
                    "state, where the FE searches then start")
     p.add_argument("--fem-kinematics", choices=("finite", "small"), default="finite",
                    help="FE kinematics: finite deformation (default) or small strain")
+    p.add_argument("--rim-model", choices=RIM_LAW_MODELS, default=RIM_LAW_MODELS[0],
+                   help="the rims' strength: the plane-strain rim times the depth πb/4 "
+                   "(default), or the 3-D push of the rim as a ring (the yielding rims' law, "
+                   "and the FE rims' effective depth at the one limit state searched; the "
+                   "first use of a rim geometry runs a 3-D push, about half an hour)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
     p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),

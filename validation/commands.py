@@ -5,10 +5,12 @@ into one line by :func:`validation.cli.main`."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from pathlib import Path
 
+from rigid.bearing import DFPBearing
 from rigid.limit_states import check_limit_state
 from rigid.limits import MAX_RECORD_ACCELERATION
 from rigid.motions import FEMA_P695_SETS
@@ -82,15 +84,14 @@ def _bearing(args):
     return bearing_from(fields)
 
 
-def _bearing_line(bearing, args) -> str:
+def _bearing_line(bearing, rims: dict) -> str:
     """The bearing as the commands print it first: pressure, mass, capacity, period, and
-    the rims (size, model, limit state)."""
-    state = check_limit_state(args.limit_state, rims=args.rims)
+    the rims (size; model and limit state from ``rims``, :func:`_rim_options`)."""
     return (f"DFP bearing, {bearing.pressure / 1e6:g} MPa (supported mass "
             f"{bearing.supported_mass / 1e3:.1f} t, capacity ±{bearing.displacement_capacity:.2f}"
             f" m, period {bearing.period:.2f} s); rims {bearing.rim_thickness * 1e3:g} × "
-            f"{bearing.rim_height * 1e3:g} mm (thickness × height), {args.rims}, failure = "
-            f"{state}")
+            f"{bearing.rim_height * 1e3:g} mm (thickness × height), {rims['rims']}, failure = "
+            f"{rims['limit_state']}")
 
 
 def _ladder_line(args) -> str:
@@ -164,10 +165,11 @@ def simulate(args) -> int:
         _, acceleration = ricker_record(args.amplitude * G, args.period, args.kind, dt=dt)
         title = (f"{bearing.pressure / 1e6:g} MPa, {args.kind} Ricker Ap = {args.amplitude:g} g, "
                  f"Tp = {args.period:g} s")
-    print(_bearing_line(bearing, args))
+    rims = _rim_options(args, bearing)
+    print(_bearing_line(bearing, rims))
     print(title)
     try:
-        result = run(bearing, acceleration, dt, **_rim_options(args, bearing))
+        result = run(bearing, acceleration, dt, **rims)
     except NumericalInstabilityError as exc:
         raise _no_answer("the rigid model's integration stayed unstable; the run gives no "
                          "verdict", exc) from None
@@ -186,12 +188,14 @@ def pulses(args) -> int:
     motion = _record(args)
     found = []
     print(f"{motion.name}: dt = {motion.dt:g} s, {motion.acceleration.size} samples")
-    print("criterion  kind           Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
+    print(f"weighting {args.weighting}, pulse periods up to {args.max_period:g} s")
+    print("criterion  kind           w(s)       Tp [s]   Ap [g]   t0 [s]   e_a     e_v")
     for criterion in (1, 2, 3, 4):
-        p = best_pulse(motion, criterion=criterion, weighting=args.weighting)
+        p = best_pulse(motion, criterion=criterion, weighting=args.weighting,
+                       max_period=args.max_period)
         found.append(p)
-        print(f"{criterion:9d}  {p.kind:13s} {p.period:7.3f} {p.amplitude / G:8.3f} "
-              f"{p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
+        print(f"{criterion:9d}  {p.kind:13s} {p.weighting:9s} {p.period:7.3f} "
+              f"{p.amplitude / G:8.3f} {p.time:8.2f} {_index(p.e_a)} {_index(p.e_v)}")
     path = plot_record_pulses(motion, found, out / "pulses.png", title=motion.name)
     print(f"plot: {path}")
     return 0
@@ -212,13 +216,14 @@ def critical(args) -> int:
     bearing = _bearing(args)
     motion = _record(args)
     rims = _rim_options(args, bearing)
-    print(_bearing_line(bearing, args))
+    print(_bearing_line(bearing, rims))
     print(_ladder_line(args))
     actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
                          after_failure=args.after_failure, **rims)
     print(actual.summary())
     predicted = predict_critical_sa(bearing, motion, criterion=args.criterion,
-                                    stop=args.stop * G, search=args.search, **rims)
+                                    stop=args.stop * G, search=args.search,
+                                    weighting=args.weighting, max_period=args.max_period, **rims)
     print(predicted.summary())
     uncertain = [what for what, r in (("critical SA", actual), ("prediction", predicted))
                  if r.uncertain]
@@ -255,7 +260,6 @@ def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
 
-    from rigid import DFPBearing
     from validation.fem_search import FESettings
     from validation.report import write_report
     from validation.run import Settings, run_validation
@@ -284,6 +288,9 @@ def validate(args) -> int:
         fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
                          kinematics=args.fem_kinematics,
                          limit_states=tuple(dict.fromkeys(args.limit_state)))
+    bearing = tuple(fields.items())
+    if args.rim_model == "ring" and fem is not None:
+        fem = dataclasses.replace(fem, rim_depth=_ring_depth(bearing, fem.limit_states))
     settings = Settings(
         pressures=tuple(p * 1e6 for p in args.pressure), criteria=tuple(criteria),
         stop=args.stop * G, search=args.search, fem=fem,
@@ -291,7 +298,7 @@ def validate(args) -> int:
         fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
         rims=tuple(dict.fromkeys(["rigid", *args.rims])),
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
-        bearing=tuple(fields.items()),
+        bearing=bearing, rim_model=args.rim_model,
     )
     with open(out / "progress.log", "a") as fh:  # a first line at once (#32): the rims' law
         fh.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')}: dfp validate: {len(motions)} "
@@ -333,6 +340,20 @@ def validate(args) -> int:
                         fem=fem_results)
     print(f"report: {path}")
     return 0
+
+
+def _ring_depth(bearing, limit_states) -> float:
+    """The FE rims' depth under ``--rim-model ring``: the ring's effective depth at the one
+    limit state searched (:func:`fem.effective_rim_depth`; it differs between limit states)."""
+    if len(limit_states) != 1:
+        raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
+                           "the limit state searched: give one --limit-state per run")
+    from fem import effective_rim_depth
+
+    try:
+        return effective_rim_depth(DFPBearing(**dict(bearing)), limit_states[0])
+    except ValueError as exc:
+        raise CommandError(str(exc)) from None
 
 
 def _rim_options(args, bearing) -> dict:

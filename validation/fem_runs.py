@@ -54,7 +54,8 @@ def _duration_guess(bearing, a, dt, window, total, margin) -> float:
 def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str = "coarse",
             max_step: float = 5e-3, impact_step: float = 5e-4, trim: str = "end",
             free: float = 20.0, lead: float = 0.1, margin: float = 1.0,
-            kinematics: str = "finite", limit_state: str = "hinge", simulate=None) -> dict:
+            kinematics: str = "finite", limit_state: str = "hinge",
+            rim_depth: float | None = None, simulate=None) -> dict:
     """One FE run of a scaled record, trimmed (module docstring); runs in a worker.
 
     Parameters
@@ -82,6 +83,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     lead, margin : float [s]
         Start this long before the first strong sample; simulate this long beyond the guessed
         quiet time.
+    rim_depth : float [m], optional
+        :func:`fem.simulate`'s out-of-plane depth of the rims (default the model's πb/4).
     simulate : callable, optional
         Stand-in for :func:`fem.simulate` (tests).
 
@@ -125,7 +128,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     for duration in dict.fromkeys(durations):  # the guess, then (if needed) the whole rest
         res = simulate(b, a[window.start:], dt, duration=duration,
                        mesh_options=MESHES[mesh], max_step=max_step, impact_step=impact_step,
-                       kinematics=kinematics, limit_state=limit_state)
+                       kinematics=kinematics, limit_state=limit_state,
+                       **({} if rim_depth is None else {"rim_depth": rim_depth}))
         energy = fem_mechanical_energy(res)
         out.update(
             failed=bool(res.failed), failure_mode=res.failure_mode,

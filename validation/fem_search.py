@@ -105,6 +105,7 @@ class FESettings:
     margin: float = 1.0
     kinematics: str = "finite"
     limit_states: tuple = ("hinge",)
+    rim_depth: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "limit_states", check_limit_states(self.limit_states))
@@ -116,6 +117,8 @@ class FESettings:
         """Keyword arguments of :func:`fem_run` (what keys a stored run)."""
         options = dataclasses.asdict(self)
         del options["limit_states"]
+        if options["rim_depth"] is None:  # the model's depth: the keys of runs without it
+            del options["rim_depth"]
         return {**options, "limit_state": run_limit_state(self.limit_states)}
 
     def describe(self) -> dict:
@@ -130,7 +133,9 @@ class FESettings:
                                      "none": "none"}[self.trim],
                 "FE kinematics": {"finite": "finite deformation",
                                   "small": "small strain"}[self.kinematics],
-                "FE limit states": ", ".join(self.limit_states)}
+                "FE limit states": ", ".join(self.limit_states),
+                "FE rims' depth [m]": ("πb/4, the model's" if self.rim_depth is None
+                                       else f"{self.rim_depth:.3f} (3-D effective depth)")}
 
 
 def run_limit_state(limit_states) -> str:

@@ -47,6 +47,9 @@ class Settings:
     bearing : tuple of (str, float)
         DFPBearing fields other than the pressure that differ from the baseline, in SI units
         (e.g. ``(("rim_thickness", 0.08),)`` for rims twice as thick); default none.
+    rim_model : {"plane-strain", "ring"}
+        Where the yielding rims' law comes from (:func:`fem.rim_law`'s ``model``); with
+        "ring" the FE settings carry the ring's effective depth (``FESettings.rim_depth``).
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -60,6 +63,7 @@ class Settings:
     rims: tuple = ("rigid",)
     yielding_states: tuple | None = None
     bearing: tuple = ()
+    rim_model: str = "plane-strain"
 
     def bearing_at(self, pressure: float) -> DFPBearing:
         """The bearing of the run at ``pressure`` [Pa]."""
@@ -80,8 +84,8 @@ class Settings:
                "SA step [g]": self.step / G,
                "SA stop [g]": self.stop / G, "ladder search": self.search,
                "rigid model's rims": ", ".join(self.rims)
-               + (f" (yielding: {', '.join(self.ladder_states())})"
-                  if self.ladder_states() else "")}
+               + (f" (yielding: {', '.join(self.ladder_states())}; law from the "
+                  f"{self.rim_model} push)" if self.ladder_states() else "")}
         if self.bearing:
             from .bearing_file import describe_variant
 
@@ -179,7 +183,8 @@ def rigid_tasks(motions, settings: Settings, out: Path):
                 from fem import rim_law
 
                 kwargs["yielding_states"] = list(settings.ladder_states())
-                kwargs["rim_law"] = rim_law(settings.bearing_at(pressure))  # cached
+                kwargs["rim_law"] = rim_law(settings.bearing_at(pressure),  # cached
+                                            model=settings.rim_model)
             models = ("rigid", "rim-law", "motions", "collapse") if settings.ladder_states() \
                 else ("rigid", "motions", "collapse")
             key = task_key("rigid-record", models, **kwargs)

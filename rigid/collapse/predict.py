@@ -112,8 +112,9 @@ class PredictedSA:
                      + ", ".join(f"{r.sa / G:.2f}" for r in numerical) + " g")
         if self.uncertain:
             extra += "; UNCERTAIN: the prediction depends on numerical rungs"
-        return (f"{self.name}: {crit} (criterion {self.criterion}, {p.kind} Tp = "
-                f"{p.period:.3f} s, Ap = {abs(p.amplitude) / G:.3f} g unscaled){extra}")
+        return (f"{self.name}: {crit} (criterion {self.criterion}, w = {p.weighting}, "
+                f"{p.kind} Tp = {p.period:.3f} s, Ap = {abs(p.amplitude) / G:.3f} g "
+                f"unscaled){extra}")
 
 
 class pulse_region:  # a callable class, named and used like a function
@@ -211,7 +212,8 @@ def predict_critical_sa(
     region=None,
     search: str = "full",
     coarse: int = 10,
-    weighting: str = "1/sqrt(s)",
+    weighting: str = "all",
+    max_period: float = 7.5,
     period: float | None = None,
     damping: float = 0.05,
     dt: float | None = None,
@@ -245,8 +247,11 @@ def predict_critical_sa(
         (paper Fig. 8); about log2(rungs) region evaluations.
     coarse : int
         Rungs per coarse step of the fast search.
-    weighting : {"1/sqrt(s)", "1/s", "1"}
-        w(s) of the pulse extraction (paper Eq. 7).
+    weighting : {"all", "1/sqrt(s)", "1/s", "1"}
+        w(s) of the pulse extraction (paper Eq. 7); ``"all"``, the paper's procedure, pools
+        the candidates of the three (:func:`rigid.best_pulse`).
+    max_period : float [s]
+        Longest pulse period searched (the paper's 7.5 s).
     period : float [s], optional
         Tb; default ``bearing.design_period``.
     damping : float [-]
@@ -272,7 +277,8 @@ def predict_critical_sa(
     if pulse is None:
         from ..motions.pulse_extraction import best_pulse
 
-        pulse = best_pulse(acc, criterion=criterion, weighting=weighting, dt=dt)
+        pulse = best_pulse(acc, criterion=criterion, weighting=weighting, dt=dt,
+                           max_period=max_period)
         used = criterion
     else:
         used = None

@@ -5,18 +5,27 @@ Nothing here knows the bearing: records are plain accelerations in m/s² with th
 The equations are in ``docs/theory/ground-motions.md``.
 """
 
-from .cwt import SOURCES, WEIGHTINGS, wavelet_transform
+from .cwt import MAX_PULSE_PERIOD, SOURCES, WEIGHTINGS, wavelet_transform
 from .formats import read_record
-from .pulse_extraction import CRITERIA, Pulse, best_pulse, extract_pulse, extract_pulses
+from .pulse_extraction import (
+    ALL_WEIGHTINGS,
+    CRITERIA,
+    Pulse,
+    best_pulse,
+    extract_pulse,
+    extract_pulses,
+)
 from .pulses import KINDS, ricker, ricker_displacement, ricker_record, ricker_velocity
 from .record import GroundMotion, RecordFormatError, cumulative_integral
 from .record_sets import FEMA_P695_SETS, fema_p695, fema_p695_spectra, read_manifest
 from .spectra import pseudo_acceleration, scale_factor, scaling_ladder, spectral_displacement
 
 __all__ = [
+    "ALL_WEIGHTINGS",
     "CRITERIA",
     "FEMA_P695_SETS",
     "KINDS",
+    "MAX_PULSE_PERIOD",
     "SOURCES",
     "WEIGHTINGS",
     "GroundMotion",

@@ -17,10 +17,13 @@ import numpy as np
 
 from .pulses import ANTISYMMETRIC_NORM, KINDS
 
-__all__ = ["SOURCES", "WAVELET_NORM2", "WEIGHTINGS", "WEIGHT_EXPONENT", "check_options",
-           "default_periods", "wavelet_transform"]
+__all__ = ["MAX_PULSE_PERIOD", "SOURCES", "WAVELET_NORM2", "WEIGHTINGS", "WEIGHT_EXPONENT",
+           "check_options", "default_periods", "wavelet_transform"]
 
 WEIGHTINGS = ("1/sqrt(s)", "1/s", "1")
+#: Longest pulse period of the default scale grid [s]: paper §3.1 limits Tp to 7.5 s, "because
+#: longer period pulse is not realistic" (docs/theory/ground-motions.md, after Eq. M31).
+MAX_PULSE_PERIOD = 7.5
 SOURCES = ("acceleration", "velocity")
 #: Exponent p of w(s) = s^(−p) (Eq. M20).
 WEIGHT_EXPONENT = {"1/sqrt(s)": 0.5, "1/s": 1.0, "1": 0.0}
@@ -84,8 +87,9 @@ def check_options(kind=None, source=None, weighting=None):
         raise ValueError(f"weighting must be one of {WEIGHTINGS}, got {weighting!r}")
 
 
-def default_periods(dt: float, duration: float, step: float = 0.02):
-    """Default scale grid: geometric from max(0.2 s, 10·dt) to min(12 s, duration) [s].
+def default_periods(dt: float, duration: float, step: float = 0.02,
+                    longest: float = MAX_PULSE_PERIOD):
+    """Default scale grid: geometric from max(0.2 s, 10·dt) to min(``longest``, duration) [s].
 
     Parameters
     ----------
@@ -93,9 +97,13 @@ def default_periods(dt: float, duration: float, step: float = 0.02):
     duration : float [s]
     step : float [-]
         Relative spacing of consecutive scales (default 2 %).
+    longest : float [s]
+        Longest period searched (default 7.5 s, the paper's limit; 12 s before 2026-11-26).
     """
+    if not longest > 0:
+        raise ValueError(f"longest must be a positive period in s, got {longest!r}")
     lo = max(0.2, 10.0 * dt)
-    hi = max(min(12.0, duration), 2.0 * lo)
+    hi = max(min(longest, duration), 2.0 * lo)
     n = math.ceil(math.log(hi / lo) / math.log1p(step)) + 1
     return np.geomspace(lo, hi, n)
 

@@ -22,6 +22,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .cwt import (
+    MAX_PULSE_PERIOD,
     SOURCES,
     WEIGHT_EXPONENT,
     WEIGHTINGS,
@@ -32,7 +33,12 @@ from .cwt import (
 from .pulses import KINDS, ricker, ricker_velocity
 from .record import cumulative_integral
 
-__all__ = ["CRITERIA", "Pulse", "best_pulse", "extract_pulse", "extract_pulses"]
+__all__ = ["ALL_WEIGHTINGS", "CRITERIA", "Pulse", "best_pulse", "extract_pulse",
+           "extract_pulses", "pulse_weightings"]
+
+#: ``weighting`` of :func:`best_pulse` for the paper's procedure: the candidates of all three
+#: weightings, then the criterion (docs/theory/ground-motions.md, Eq. M31).
+ALL_WEIGHTINGS = "all"
 
 @dataclass(frozen=True)
 class Pulse:
@@ -245,6 +251,7 @@ def extract_pulses(
     periods=None,
     count: int = 5,
     dt: float | None = None,
+    max_period: float = MAX_PULSE_PERIOD,
 ):
     """Candidate Ricker pulses for every (source, weighting, kind) combination.
 
@@ -259,11 +266,14 @@ def extract_pulses(
     weightings : iterable of {"1/sqrt(s)", "1/s", "1"}
     kinds : iterable of {"symmetric", "antisymmetric"}
     periods : array_like [s], optional
-        Scale grid; default :func:`default_periods` (0.2–12 s, 2 % steps).
+        Scale grid; default :func:`default_periods` (0.2 s to ``max_period``, 2 % steps).
+        No pulse period leaves the grid's range.
     count : int
         Number of local maxima kept per combination.
     dt : float [s], optional
         Time step when ``motion`` is an array.
+    max_period : float [s]
+        Longest period of the default grid (the paper's 7.5 s; ignored with ``periods``).
 
     Returns
     -------
@@ -280,7 +290,7 @@ def extract_pulses(
         check_options(kind=knd)
     t = np.arange(acc.size) * dt
     if periods is None:
-        periods = default_periods(dt, t[-1])
+        periods = default_periods(dt, t[-1], longest=max_period)
     else:  # sorted, so grid neighbours are neighbouring scales
         periods = np.unique(np.asarray(periods, dtype=float))
         if periods.size < 3 or not np.all(np.isfinite(periods)) or periods[0] <= 0:
@@ -303,6 +313,7 @@ def extract_pulses(
                     period, t0 = _polish(
                         x, t, dt, knd, src, WEIGHT_EXPONENT[wgt], period, t0, log_step
                     )
+                    period = min(max(period, periods[0]), periods[-1])  # the grid's range
                     coef = float(weights[r] * w_raw[r, c])
                     pulses.append(_fit(acc, vel, t, dt, knd, src, wgt, period, t0, coef))
                 result[(src, wgt, knd)] = pulses
@@ -320,6 +331,7 @@ def extract_pulse(
     kind: str | None = None,
     periods=None,
     dt: float | None = None,
+    max_period: float = MAX_PULSE_PERIOD,
 ) -> Pulse:
     """The Ricker pulse at the largest weighted wavelet coefficient (Vassiliou & Makris 2011).
 
@@ -339,9 +351,11 @@ def extract_pulse(
     kind : {"symmetric", "antisymmetric"} or None
         Mother wavelet; None tries both.
     periods : array_like [s], optional
-        Scale grid (default 0.2–12 s in 2 % steps).
+        Scale grid (default 0.2 s to ``max_period`` in 2 % steps).
     dt : float [s], optional
         Time step when ``motion`` is an array.
+    max_period : float [s]
+        Longest period of the default grid (the paper's 7.5 s).
 
     Returns
     -------
@@ -351,7 +365,7 @@ def extract_pulse(
     """
     check_options(kind, source, weighting)
     kinds = KINDS if kind is None else (kind,)
-    found = extract_pulses(motion, (source,), (weighting,), kinds, periods, 1, dt)
+    found = extract_pulses(motion, (source,), (weighting,), kinds, periods, 1, dt, max_period)
     best = [found[(source, weighting, k)][0] for k in kinds]
     return max(best, key=_own_index)
 
@@ -368,17 +382,19 @@ CRITERIA = {
 def best_pulse(
     motion,
     criterion: int = 4,
-    weighting: str = "1/sqrt(s)",
+    weighting: str = ALL_WEIGHTINGS,
     periods=None,
     count: int = 5,
     dt: float | None = None,
+    max_period: float = MAX_PULSE_PERIOD,
 ) -> Pulse:
     """The best-matching Ricker pulse by one of the paper's four criteria (§4.1).
 
     1. from the acceleration record, maximum e_a;   2. from the acceleration record, max e_v;
     3. from the velocity record, maximum e_a;       4. from the velocity record, max e_v.
 
-    The maximum is taken over ``count`` candidate maxima of each kind (both kinds).
+    The maximum is taken over ``count`` candidate maxima of each kind (both kinds) and, by
+    default, of each of the three weightings, as the paper does (Eq. M31).
     Note that e_a and e_v are linear in Ap, so an index computed in the other domain can
     exceed 1 for an over-scaled pulse (docs/theory/ground-motions.md, after Eq. M30).
 
@@ -388,14 +404,17 @@ def best_pulse(
         The record; an array needs ``dt``.
     criterion : {1, 2, 3, 4}
         Paper §4.1 (the paper recommends 4; an earlier study preferred 3).
-    weighting : {"1/sqrt(s)", "1/s", "1"}
-        w(s) of paper Eq. 7.
+    weighting : {"all", "1/sqrt(s)", "1/s", "1"}
+        w(s) of paper Eq. 7; ``"all"`` (the paper's procedure) pools the candidates of the
+        three. The returned pulse's ``weighting`` names the one that found it.
     periods : array_like [s], optional
         Scale grid.
     count : int
-        Candidates per kind.
+        Candidates per kind and weighting.
     dt : float [s], optional
         Time step when ``motion`` is an array.
+    max_period : float [s]
+        Longest period of the default grid (the paper's 7.5 s).
 
     Returns
     -------
@@ -403,8 +422,20 @@ def best_pulse(
     """
     if criterion not in CRITERIA:
         raise ValueError(f"criterion must be 1, 2, 3 or 4, got {criterion!r}")
-    check_options(weighting=weighting)
+    weightings = pulse_weightings(weighting)
     source, index = CRITERIA[criterion]
-    found = extract_pulses(motion, (source,), (weighting,), KINDS, periods, count, dt)
-    candidates = [p for k in KINDS for p in found[(source, weighting, k)]]
+    found = extract_pulses(motion, (source,), weightings, KINDS, periods, count, dt, max_period)
+    # ties (one pulse found by several weightings) go to the first in WEIGHTINGS' order
+    candidates = [p for w in weightings for k in KINDS for p in found[(source, w, k)]]
     return max(candidates, key=lambda p: getattr(p, index))
+
+
+def pulse_weightings(weighting: str) -> tuple:
+    """The weightings a ``weighting`` option names: all three for ``"all"``, else itself
+    (ValueError for anything else)."""
+    if weighting == ALL_WEIGHTINGS:
+        return WEIGHTINGS
+    if weighting not in WEIGHTINGS:
+        raise ValueError(f"weighting must be {ALL_WEIGHTINGS!r} (the paper's procedure) or one "
+                         f"of {WEIGHTINGS}, got {weighting!r}")
+    return (weighting,)
