@@ -1,6 +1,7 @@
 """A user's own bearing: a TOML file with any of :class:`rigid.DFPBearing`'s fields in the
-README's units (MPa, m, mm for the friction's elastic slip, GPa for Young's modulus), checked
-field by field, and the commented template that ``dfp bearing --template`` writes.
+units of docs/bearing.md (MPa, m, mm for the friction's elastic slip, GPa for Young's
+modulus), checked field by field, and the commented template that ``dfp bearing --template``
+writes.
 
 Call :func:`read_bearing_file` for the fields of a file in SI units (a ``dict`` for
 ``DFPBearing(**fields)``), :func:`bearing_from` to build the bearing of a command from a file
@@ -212,7 +213,7 @@ def template(pressure: float | None = None) -> str:
     lines = [
         "# A double friction pendulum bearing for dfp (--bearing FILE).",
         "# Every field is optional: a field left out (or commented out) keeps the value shown.",
-        "# Units as in the README: MPa, m, s; the allowed range is checked field by field.",
+        "# Units as in docs/bearing.md: MPa, m, s; each field is checked against its range.",
         "# 'paper': Bao & Becker (2016); 'assumed': the paper's Figure 1 is not available.",
         "",
     ]

@@ -111,11 +111,14 @@ _STOP = _number(float, 0, MAX_SA_STOP / G, " g", "every studied record fails bel
 def _bearing_args(p, pressures=False):
     """``--bearing FILE`` and the options of the common fields (:mod:`validation.bearing_file`;
     an option wins over the file). ``pressures``: ``--pressure`` takes several (validate)."""
-    from .bearing_file import option_range
+    from rigid.bearing import DFPBearing
+
+    from .bearing_file import OPTIONS, option_range
 
     p.add_argument("--bearing", metavar="FILE",
-                   help="the bearing: a TOML file with any DFPBearing field in the README's "
-                   "units (dfp bearing --template writes one); options below override it")
+                   help="the bearing: a TOML file with any DFPBearing field in the units of "
+                   "docs/bearing.md (dfp bearing --template writes one); the options below "
+                   "override it")
     if pressures:
         p.add_argument("--pressure", type=_PRESSURE, nargs="+",
                        help="slider pressures [MPa], 1-200 (default: the file's, else 60 10)")
@@ -123,21 +126,23 @@ def _bearing_args(p, pressures=False):
         p.add_argument("--pressure", type=_PRESSURE,
                        help="slider pressure [MPa], 1-200 (paper: 60 heavy, 10 light; default: "
                        "the file's, else 10)")
-    helps = {"radius": "radius of each sliding surface [m] (default 2.5)",
-             "friction": "friction coefficient of the sliding surfaces [-] (default 0.05)",
-             "slider_diameter": "slider diameter [m] (default 0.4)",
+    helps = {"radius": "radius of each sliding surface [m]",
+             "friction": "friction coefficient of the sliding surfaces [-]",
+             "slider_diameter": "slider diameter [m]",
              "displacement_capacity": "the bearing's displacement capacity [m], twice the "
-             "travel on one surface (default 0.6)",
-             "rim_thickness": "the rims' thickness [mm] (default 40)",
-             "rim_height": "the rims' height [mm] (default 35)",
-             "yield_stress": "rim steel yield stress [MPa] (default 345)",
-             "ultimate_stress": "rim steel ultimate stress [MPa] (default 450)"}
+             "travel on one surface",
+             "rim_thickness": "the rims' thickness [mm]", "rim_height": "the rims' height [mm]",
+             "yield_stress": "rim steel yield stress [MPa]",
+             "ultimate_stress": "rim steel ultimate stress [MPa]"}
+    baseline = DFPBearing()
     for option, text in helps.items():
         low, high, unit, low_open = option_range(option)
+        name, _, factor = OPTIONS[option]
         p.add_argument("--" + option.replace("_", "-"),
                        type=_number(float, low, high, f" {unit}" if unit else "",
                                     low_open=low_open),
-                       help=f"{text}, {low:g}-{high:g}")
+                       help=f"{text}, {low:g}-{high:g} (default "
+                       f"{getattr(baseline, name) / factor:g})")
 
 
 def _rim_args(p):
@@ -218,7 +223,8 @@ def build_parser() -> argparse.ArgumentParser:
 def _simulate_parsers(sub):
     """``simulate`` and its alias ``demo``: a Ricker pulse or a record, one rigid run."""
     for name, helptext in (("simulate", "the rigid model on a Ricker pulse or a record"),
-                           ("demo", "the same as simulate (the first example of the README)")):
+                           ("demo", "the same as simulate (by default the light bearing on a "
+                            "0.8 g, 3 s Ricker pulse)")):
         p = sub.add_parser(name, help=helptext, description=simulate.__doc__)
         _bearing_args(p)
         p.add_argument("--amplitude", default=0.8,

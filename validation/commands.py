@@ -94,12 +94,13 @@ def _bearing_line(bearing, rims: dict) -> str:
             f"{rims['limit_state']}")
 
 
-def _ladder_line(args) -> str:
-    """The ladder as the commands print it: step, top (said to differ from
+def _ladder_line(args, bearing) -> str:
+    """The ladder as the commands print it: SA(Tb), step, top (said to differ from
     :data:`LADDER_TOP` when it does) and search."""
     top = f"{args.stop:g} g" + (f" (not the default {LADDER_TOP:g} g)"
                                 if args.stop != LADDER_TOP else "")
-    return f"ladder: SA(4.5 s) in 0.01 g steps up to {top}, {args.search} search"
+    return (f"ladder: SA({bearing.design_period:g} s) in 0.01 g steps up to {top}, "
+            f"{args.search} search")
 
 
 def bearing(args) -> int:
@@ -217,7 +218,7 @@ def critical(args) -> int:
     motion = _record(args)
     rims = _rim_options(args, bearing)
     print(_bearing_line(bearing, rims))
-    print(_ladder_line(args))
+    print(_ladder_line(args, bearing))
     actual = critical_sa(bearing, motion, stop=args.stop * G, search=args.search,
                          after_failure=args.after_failure, **rims)
     print(actual.summary())
