@@ -161,6 +161,7 @@ def test_piped_run_prints_plain_lines_and_logs_before_the_first_run_ends(tmp_pat
     results = run_tasks(tasks, None, workers=1, log=log)
     assert "started, 2 queued on 1 worker(s)" in results["s0"]["log"]
     err = capsys.readouterr().err.splitlines()
+    assert "started, 2 queued on 1 worker(s); a progress line every 0.1 s" in err[0]
     beats = [line for line in err if " running, " in line and "so far" in line]
     assert len(beats) >= 4, err  # 0.8 s of runs at 0.1 s: about 7
     assert not any("\r" in line for line in err)  # no bar

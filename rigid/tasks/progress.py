@@ -270,12 +270,16 @@ class _Watch(Heartbeat):
 
     def begin(self, queued: int) -> None:
         """Write the log's first line when the first run starts (not for a run whose
-        results are all stored), and start beating."""
+        results are all stored), and on a pipe the same at once; start beating."""
         if self._thread.is_alive() or self._stop.is_set():
             return
         p = self.progress
-        p.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')}: started, {queued} queued on "
-                f"{p.capacity} worker(s); a line per run and every {self.interval:.0f} s")
+        line = (f"{time.strftime('%Y-%m-%d %H:%M:%S')}: started, {queued} queued on "
+                f"{p.capacity} worker(s); a line per run and every {self.interval:g} s")
+        p.write(line)
+        if self.stream is not None:  # a pipe: say at once that lines will come
+            print(line.replace("a line per run and ", "a progress line "), file=self.stream,
+                  flush=True)
         self.start()
 
 
