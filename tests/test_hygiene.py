@@ -143,3 +143,15 @@ def test_results_print_their_key_numbers_not_their_arrays():
     crit = rigid.critical_sa(rigid.DFPBearing(pressure=10e6), record, search="fast", stop=G)
     text = repr(crit)
     assert len(text) < 400 and f"({crit.sa / G:.3g} g)" in text and "items]" in text
+
+
+def test_the_validation_results_print_short_too():
+    """An FE search with its runs (probes: one dict per FE run) prints its answer and the
+    number of runs, not the runs."""
+    from rigid import G
+    from validation.fem_search import FECritical
+
+    probes = [{"sa": 0.3 * G, "history": list(range(1000))}] * 12
+    text = repr(FECritical("rec A", 60e6, 0.31 * G, 0.30 * G, 0.29 * G, "yielding", 4.2,
+                           probes))
+    assert len(text) < 400 and "probes=[12 items]" in text and "(0.3 g)" in text
