@@ -250,3 +250,29 @@ def test_fem_run_rows_say_why_a_run_ended_numerically():
     rows = fem_run_rows({60e6: [search]})
     assert [r["numerical_detail"] for r in rows] == [stalled["detail"], None]
     assert [r["failed"] for r in rows] == ["numerical", True]
+
+
+def test_summary_answers_by_pressure_limit_state_and_model():
+    """The Summary's table: medians and ranges [g] over the answers that are not uncertain
+    (an uncertain one is counted apart), "cannot yield" for rigid rims short of containment,
+    "not run" where a model did not run; the rows by pressure, then limit state."""
+    from types import SimpleNamespace as NS
+
+    from validation.report.summary import answer_rows
+
+    def crit(sa, uncertain=False):
+        return NS(sa=None if sa is None else sa * G, uncertain=uncertain)
+
+    results = {60e6: NS(actual=[crit(0.3), crit(0.5), crit(None), crit(0.1, True)],
+                        yielding={"hinge": [crit(0.2), crit(0.22), crit(0.24), crit(0.3)]})}
+    fem = [{"limit_state": "hinge", "pressure_mpa": 60.0, "fem_sa_g": 0.15, "uncertain": False},
+           {"limit_state": "hinge", "pressure_mpa": 60.0, "fem_sa_g": 0.17, "uncertain": True}]
+    rows = answer_rows(results, fem)
+    assert [(r["pressure [MPa]"], r["limit state"]) for r in rows] == [(60.0, "hinge"),
+                                                                      (60.0, "containment")]
+    hinge, containment = rows
+    assert hinge == {"pressure [MPa]": 60.0, "limit state": "hinge",
+                     "rigid rims": "cannot yield", "yielding rims": "0.23 (0.20–0.30) 4/4",
+                     "FE model": "0.15 1/1 (1 uncertain)"}
+    assert containment["rigid rims"] == "0.40 (0.30–0.50) 2/3 (1 uncertain)"
+    assert containment["yielding rims"] == "not run" and containment["FE model"] == "not run"

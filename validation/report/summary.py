@@ -18,8 +18,8 @@ from rigid.limit_states import LIMIT_STATES
 
 from .fem_tables import within_band
 
-__all__ = ["FEW_RECORDS", "answer_rows", "design_period", "significant", "summary_lines",
-           "what_ran", "write_summary"]
+__all__ = ["FEW_RECORDS", "answer_rows", "answers", "design_period", "plot_answers",
+           "significant", "summary_lines", "what_ran", "write_summary"]
 
 #: Fewer records than this give a fragility (median, β) and a collapse margin two significant
 #: digits at most, with a warning: the standard error of a lognormal median from n records is
@@ -53,40 +53,90 @@ def _cell(values, n: int) -> str:
     return f"{median:.2f}{spread} {failed}/{n}"
 
 
-def answer_rows(results: dict, fem_rows: list | None = None) -> list[dict]:
-    """The answers by pressure and limit state: the critical SA(Tb) [g] of the rigid model
-    with rigid rims (containment only), with yielding rims, and of the FE model, each
-    "median (lowest–highest), failures of cases", over the answers that are not uncertain."""
+def answers(results: dict, fem_rows: list | None = None) -> dict:
+    """The certain critical SAs [m/s², None: no failure] by (pressure [Pa], limit state,
+    model), model one of "rigid rims" (containment only), "yielding rims", "FE model"; the
+    number of uncertain answers left out by the same key under ``"uncertain"``."""
     fem_rows = fem_rows or []
-    rows = []
+    out: dict = {"uncertain": {}}
+    def put(key, found):
+        out[key] = [a.sa for a in found if not a.uncertain]
+        out["uncertain"][key] = sum(bool(a.uncertain) for a in found)
+
     for pressure, res in results.items():
-        states = [s for s in LIMIT_STATES
-                  if s in res.yielding or s == "containment"
-                  or any(r["limit_state"] == s and r["pressure_mpa"] == pressure / 1e6
-                         for r in fem_rows)]
-        for state in states:
-            row = {"pressure [MPa]": pressure / 1e6, "limit state": state}
-            if state == "containment":
-                certain = [a.sa for a in res.actual if not a.uncertain]
-                row["rigid rims"] = _cell(certain, len(certain))
-            else:
-                row["rigid rims"] = "cannot yield"
-            ladders = res.yielding.get(state)
-            if ladders is not None:
-                certain = [a.sa for a in ladders if not a.uncertain]
-                row["yielding rims"] = _cell(certain, len(certain))
-            else:
-                row["yielding rims"] = "not run"
+        put((pressure, "containment", "rigid rims"), res.actual)
+        for state, ladders in res.yielding.items():
+            put((pressure, state, "yielding rims"), ladders)
+        for state in LIMIT_STATES:
             fem = [r for r in fem_rows
                    if r["limit_state"] == state and r["pressure_mpa"] == pressure / 1e6]
             if fem:
-                certain = [None if r["fem_sa_g"] is None else r["fem_sa_g"] * G
-                           for r in fem if not r["uncertain"]]
-                row["FE model"] = _cell(certain, len(certain))
-                if len(certain) < len(fem):
-                    row["FE model"] += f" ({len(fem) - len(certain)} uncertain)"
-            else:
-                row["FE model"] = "not run"
+                key = (pressure, state, "FE model")
+                out[key] = [None if r["fem_sa_g"] is None else r["fem_sa_g"] * G
+                            for r in fem if not r["uncertain"]]
+                out["uncertain"][key] = sum(bool(r["uncertain"]) for r in fem)
+    return out
+
+
+def plot_answers(results: dict, fem_rows: list | None = None):
+    """The key figure: the critical SA(Tb) [g] of each model under each limit state, a dot
+    at the median and a bar over the records' range, one colour and marker per pressure."""
+    import matplotlib.pyplot as plt
+
+    found = answers(results, fem_rows)
+    keys = [k for k in found if k != "uncertain"]
+    rows = []
+    for state in LIMIT_STATES:
+        for model in ("rigid rims", "yielding rims", "FE model"):
+            if any(k[1] == state and k[2] == model for k in keys):
+                rows.append((state, model))
+    pressures = list(results)
+    fig, ax = plt.subplots(figsize=(4.6, 0.42 * len(rows) + 1.3))
+    styles = list(zip(("tab:red", "tab:blue", "tab:green", "tab:purple"), "os^D",
+                      strict=True))
+    for j, pressure in enumerate(pressures):
+        colour, marker = styles[j % len(styles)]
+        offset = (j - (len(pressures) - 1) / 2) * 0.18
+        label = f"{pressure / 1e6:g} MPa"
+        for i, (state, model) in enumerate(rows):
+            failed = [v / G for v in found.get((pressure, state, model), []) if v is not None]
+            if not failed:
+                continue
+            y = i + offset
+            ax.plot([min(failed), max(failed)], [y, y], "-", color=colour, lw=1.5)
+            ax.plot(float(np.median(failed)), y, marker, color=colour, ms=7, label=label)
+            label = None
+    ax.set_yticks(range(len(rows)), [f"{m}, {s}" for s, m in rows], fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xlim(left=0)
+    ax.set_xlabel("critical SA(Tb) [g]: median (marker), range over records (bar)",
+                  fontsize=8)
+    ax.grid(axis="x", color="0.9")
+    ax.legend(fontsize=8, loc="lower right", title="slider pressure", title_fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def answer_rows(results: dict, fem_rows: list | None = None) -> list[dict]:
+    """The answers by pressure and limit state: the critical SA(Tb) [g] of the rigid model
+    with rigid rims (containment only), with yielding rims, and of the FE model, each
+    "median (lowest–highest) failed/cases", over the answers that are not uncertain."""
+    found = answers(results, fem_rows)
+    rows = []
+    for pressure in results:
+        states = [s for s in LIMIT_STATES if any(k != "uncertain" and k[:2] == (pressure, s)
+                                                 for k in found)]
+        for state in states:
+            row = {"pressure [MPa]": pressure / 1e6, "limit state": state}
+            for model in ("rigid rims", "yielding rims", "FE model"):
+                values = found.get((pressure, state, model))
+                if values is None:
+                    row[model] = ("cannot yield" if model == "rigid rims" else "not run")
+                    continue
+                row[model] = _cell(values, len(values))
+                left_out = found["uncertain"].get((pressure, state, model))
+                if left_out:
+                    row[model] += f" ({left_out} uncertain)"
             rows.append(row)
     return rows
 
@@ -94,25 +144,38 @@ def answer_rows(results: dict, fem_rows: list | None = None) -> list[dict]:
 def _trust(stats: list[dict]) -> list[str]:
     """Which model to trust for what, from :func:`validation.report.fem_statistics`' rows:
     the rigid model with each rim model against the FE model, per limit state, by the goal
-    (median within ±15 %, every case within ±35 %)."""
+    (median within ±15 %, every case within ±35 %); a sentence per rim model."""
     out = []
-    for s in stats:
-        if not s["compared"]:
+    for model in ("rigid rims", "yielding rims"):
+        rows = [s for s in stats if s["rigid_model"] == model and s["compared"]]
+        if not rows:
             continue
-        r = s["median_ratio"]
-        holds = bool(within_band(r, 0.15)) and s["within_35_percent"] == s["compared"]
-        if holds:
-            verdict = "trust it there"
-        elif r < 1:
-            verdict = f"it overstates the SA {1 / r:.2g}-fold: do not trust it there"
-        else:
-            verdict = f"it is {100 * (1 - 1 / r):.0f} % low (on the safe side)"
-        out.append(f"{s['limit_state']}, [[{s['rigid_model']}]]: median {r:.2f}, "
-                   f"{s['within_35_percent']}/{s['compared']} within ±35 %: {verdict}")
+        good, low, high = [], [], []
+        for s in rows:
+            r = s["median_ratio"]
+            if within_band(r, 0.15) and s["within_35_percent"] == s["compared"]:
+                good.append(s["limit_state"])
+            else:
+                (high if r < 1 else low).append(s)
+        figures = ", ".join(f"{s['limit_state']} {s['median_ratio']:.2f} "
+                            f"({s['within_35_percent']}/{s['compared']} within ±35 %)"
+                            for s in rows)
+        verdicts = []
+        if good:
+            verdicts.append(f"trust it for the {', '.join(good)}")
+        if high:
+            folds = [1 / s["median_ratio"] for s in high]
+            span = f"{min(folds):.2g}" + (f"–{max(folds):.2g}" if len(folds) > 1 else "")
+            verdicts.append(f"it overstates the {', '.join(s['limit_state'] for s in high)} "
+                            f"SA {span}-fold: do not trust it there")
+        if low:
+            verdicts.append(f"it is low for the {', '.join(s['limit_state'] for s in low)} "
+                            "(on the safe side)")
+        out.append(f"[[{model}|{model.capitalize()}]]: {figures}: {'; '.join(verdicts)}.")
     if not out:
         return []
-    return ["Rigid model against the [[FE model]] ([[FE / rigid]]; goal: median within ±15 %, "
-            "every case within ±35 %): " + "; ".join(out) + "."]
+    return ["Rigid model against the [[FE model]], median [[FE / rigid]] per limit state "
+            "(goal: median within ±15 %, every case within ±35 %). " + " ".join(out)]
 
 
 def summary_lines(results: dict, settings, *, table2_rows: list, fragility_rows: list,
@@ -186,7 +249,8 @@ def write_summary(report, results, motions, settings, record_set: str, *, table2
     report.paragraph(what_ran(results, motions, settings, record_set, fem_rows))
     report.table(answer_rows(results, fem_rows),
                  caption="[[critical SA]] [g]: median (lowest–highest) failed/cases, over the "
-                 "answers that are not [[uncertain]]")
+                 "answers that are not [[uncertain]]; the FE model's over the records it ran "
+                 "on")
     report.items(summary_lines(results, settings, table2_rows=table2_rows,
                                fragility_rows=fragility_rows, fem_stats=fem_stats))
     report.paragraph("Details, figures and every number below; every term in the "

@@ -26,7 +26,7 @@ from .fem_tables import (  # re-exported: the report's FE tables and figure
 from .glossary import GLOSSARY
 from .html import Report
 from .netcdf import write_tables
-from .summary import FEW_RECORDS, design_period, significant, write_summary
+from .summary import FEW_RECORDS, design_period, plot_answers, significant, write_summary
 
 __all__ = ["BEARING_UNITS", "PAPER_NOTE", "bearing_rows", "claim_verdicts", "fem_rows",
            "fem_run_rows", "fem_statistics", "plain", "plot_fem_vs_rigid", "record_rows",
@@ -222,16 +222,15 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     report.heading("Table 2: predictions within 20 % of the actual critical SA")
     report.table(table2_rows, caption="table2.csv (long: Tp > 0.5 s)")
     tables |= {"table2": table2_rows, "fragility": fragility_rows}
-    first = next(iter(results), 0.0) / 1e6
-    key = figures / f"fig12_{first:g}MPa.png"
-    caption = (f"Predicted against actual critical SA at {first:g} MPa (paper Fig. 12); the "
-               "FE model was not run")
     if fem:
         tables |= _fem_section(report, fem, settings, out, figures)
-        key = figures / "fig4_fem_vs_rigid.png"
-        caption = ("[[FE model]] against [[rigid model]] critical SA per record (paper Fig. "
-                   "4), one panel per [[limit state]]; the legend and details in [[#fem|FE "
-                   "against rigid critical SA]]")
+    key = None
+    if results:
+        key = save_figure(plot_answers(results, tables.get("fem_comparison")),
+                          figures / "summary.png")
+    caption = ("The table's answers: [[critical SA]] of each model under each [[limit state]] "
+               "(FE against rigid per record: [[#fem|Fig. 4]]; predicted against actual: Fig. "
+               "12 of each pressure)")
     report.heading("Glossary", id="glossary")
     report.glossary(GLOSSARY)
     report.heading("Data")
@@ -248,8 +247,7 @@ def write_report(results: dict, motions, settings, out: Path, *, elapsed: float,
     summary = Report(title)  # first on the page, made from everything above
     write_summary(summary, results, motions, settings, record_set, table2_rows=table2_rows,
                   fragility_rows=fragility_rows, fem_rows=tables.get("fem_comparison"),
-                  fem_stats=tables.get("fem_statistics"), figure=key if key.exists() else None,
-                  caption=caption)
+                  fem_stats=tables.get("fem_statistics"), figure=key, caption=caption)
     report.parts[0:0] = summary.parts
     return report.write(out / "report.html")
 
