@@ -16,7 +16,7 @@ import numpy as np
 from rigid import G
 from rigid.limit_states import LIMIT_STATES
 
-from .fem_tables import within_band
+from .fem_tables import meets_goal
 
 __all__ = ["FEW_RECORDS", "answer_rows", "answers", "design_period", "plot_answers",
            "significant", "summary_lines", "what_ran", "write_summary"]
@@ -152,11 +152,10 @@ def _trust(stats: list[dict]) -> list[str]:
             continue
         good, low, high = [], [], []
         for s in rows:
-            r = s["median_ratio"]
-            if within_band(r, 0.15) and s["within_35_percent"] == s["compared"]:
+            if meets_goal(s):
                 good.append(s["limit_state"])
             else:
-                (high if r < 1 else low).append(s)
+                (high if s["median_ratio"] < 1 else low).append(s)
         figures = ", ".join(f"{s['limit_state']} {s['median_ratio']:.2f} "
                             f"({s['within_35_percent']}/{s['compared']} within ±35 %)"
                             for s in rows)

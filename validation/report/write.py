@@ -20,6 +20,7 @@ from .fem_tables import (  # re-exported: the report's FE tables and figure
     fem_rows,
     fem_run_rows,
     fem_statistics,
+    meets_goal,
     plot_fem_vs_rigid,
     within_band,
 )
@@ -398,9 +399,8 @@ def _fem_section(report, fem, settings, out, figures) -> dict:
     plt.close("all")
     stats = fem_statistics(rows)
     write_csv(stats, out / "fem_statistics.csv")
-    shown = [{**r, "goal": "—" if not r["compared"] else "met" if (
-        within_band(r["median_ratio"], 0.15) and r["within_35_percent"] == r["compared"])
-        else "not met"} for r in stats]
+    shown = [{**r, "goal": "—" if not r["compared"] else "met" if meets_goal(r) else "not met"}
+             for r in stats]
     report.table(shown, {"limit_state": "FE limit state", "rigid_model": "rigid model",
                          "cases": "searches", "compared": "compared",
                          "median_ratio": "median FE / rigid",
