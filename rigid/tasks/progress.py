@@ -48,12 +48,13 @@ class Progress:
     A search is a chain of runs of one kind, each bringing the next until it ends; its
     length is bounded (a bracket, then a bisection), which the fixed r_AA of the sum above
     does not know: counted from the runs so far (the open chains' runs all continued) and
-    applied as much to a chain's tenth run as to its first, it overstated the time left
-    up to 5-fold (tests/test_progress.py). So, where :meth:`spawned` is given the tasks' keys, the
-    lengths of the chains that ended are kept, and a chain's run at depth d (the d-th after
-    its first) is worth s_A m_A (1 + E[L − d − 1 | L > d]) over the chains that ended longer
-    than d; a new chain (d = 0) s_A m_A E[L]. Where no ended chain is longer, the sum above
-    stands."""
+    applied as much to a chain's tenth run as to its first, it overstated the time left up to
+    5-fold (tests/test_progress.py). So, where :meth:`spawned` is given the tasks' keys, the
+    lengths of the chains that ended are kept (and those of the open ones, one run longer
+    than known), and a chain's run at depth d (the d-th after its first) is worth
+    s_A m_A (1 + E[L − d − 1 | L > d]) (:meth:`_chain_rest`); a new chain s_A m_A E[L], which
+    replaces r_AA in the sum (a ladder that starts searches counts their runs so). Without
+    the keys, the sum above stands."""
 
     def __init__(self, capacity: int, log=None, half_life: float = 50.0, clock=time.monotonic):
         self.capacity = max(1, int(capacity))
@@ -113,16 +114,23 @@ class Progress:
         return self.ran[kind] / self.met[kind] if self.met.get(kind) else 1.0
 
     def _work(self, mean: dict, default: float) -> dict:
-        """Expected seconds of one task of each kind with its follow-ups (class docstring)."""
+        """Expected seconds of one task of each kind with its follow-ups (class docstring):
+        a kind that chains, with chains known, counts its chain's runs, 1 + E[L − 1], in
+        place of the fixed continuation rate r_AA."""
         kinds = sorted(set(mean) | set(self.finished) | {b for _, b in self.children})
         m = np.array([mean.get(k, default) * self._share(k) for k in kinds])
         r = np.array([[self.children.get((a, b), 0) / self.leading[a] if self.leading.get(a)
                        else 0.0 for b in kinds] for a in kinds])
+        for i, kind in enumerate(kinds):
+            rest = self._chain_rest(kind, 0) if self.children.get((kind, kind)) else None
+            if rest is not None:
+                m[i] *= 1.0 + rest
+                r[i, i] = 0.0
         try:
             w = np.linalg.solve(np.eye(len(kinds)) - r, m)
         except np.linalg.LinAlgError:
             w = m
-        if not np.all(np.isfinite(w)) or np.any(w < m):
+        if not np.all(np.isfinite(w)) or np.any(w < m * (1 - 1e-9)):  # round-off allowed
             w = m
         return dict(zip(kinds, w.tolist(), strict=True))
 
@@ -154,10 +162,13 @@ class Progress:
             own = mean.get(task.kind, overall) * self._share(task.kind)
             if not task.leads:
                 return 0.0
-            rest = None
-            if self.children.get((task.kind, task.kind)):  # a kind that chains
-                rest = self._chain_rest(task.kind, self.depth.get(task.key, (task.kind, 0))[1])
-            return work.get(task.kind, own) - own if rest is None else rest * own
+            later = work.get(task.kind, own) - own  # a new chain's, for a kind that chains
+            if self.children.get((task.kind, task.kind)):  # where this run is in its chain
+                depth = self.depth.get(task.key, (task.kind, 0))[1]
+                new, rest = self._chain_rest(task.kind, 0), self._chain_rest(task.kind, depth)
+                if rest is not None:
+                    later += (rest - new) * own
+            return later
 
         queued = [mean.get(t.kind, overall) * self._share(t.kind) + after(t) for t in queue]
         now = self.clock()
