@@ -125,7 +125,7 @@ def test_a_chains_rest_comes_from_the_chains_that_ended():
 
 
 def test_heartbeat_prints_plain_lines_at_its_interval():
-    """A status line every interval (here 0.05 s for the test; 30 s in use), whatever the
+    """A status line every interval (here 0.05 s for the test; 25 s in use), whatever the
     tasks do; a status that fails skips a beat, it does not stop the thread."""
     out = io.StringIO()
     calls = itertools.count()
