@@ -51,8 +51,8 @@ class Progress:
     does not know: counted from the runs so far (the open chains' runs all continued) and
     applied as much to a chain's tenth run as to its first, it overstated the time left up to
     5-fold (tests/test_progress.py). So, where :meth:`spawned` is given the tasks' keys, the
-    lengths of the chains that ended are kept (and those of the open ones, one run longer
-    than known), and a chain's run at depth d (the d-th after its first) is worth
+    lengths of the chains that ended are kept (and those of the open ones, as far as known),
+    and a chain's run at depth d (the d-th after its first) is worth
     s_A m_A (1 + E[L − d − 1 | L > d]) (:meth:`_chain_rest`); a new chain s_A m_A E[L], which
     replaces r_AA in the sum (a ladder that starts searches counts their runs so). Without
     the keys, the sum above stands."""
@@ -138,7 +138,7 @@ class Progress:
     def _chain_rest(self, kind: str, depth: int) -> float | None:
         """E[L − d − 1 | L > d]: the runs expected after a chain's run at ``depth`` (class
         docstring), over the chains of ``kind`` that ended and those still open (a run under
-        way or queued at depth k: taken as k + 2 long, one more than known); where none is
+        way or queued at depth k: taken as k + 1 long, as far as known); where none is
         longer than d, d more (a chain that went on d runs may go on as many again); None
         when no chain of ``kind`` is known (the sum of the class docstring then)."""
         ended = self.chains.get(kind, [])
