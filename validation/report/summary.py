@@ -177,7 +177,7 @@ def _trust(stats: list[dict]) -> list[str]:
             "(goal: median within ±15 %, every case within ±35 %). " + " ".join(out)]
 
 
-def summary_lines(results: dict, settings, *, table2_rows: list, fragility_rows: list,
+def summary_lines(*, table2_rows: list, fragility_rows: list,
                   fem_stats: list | None = None) -> list[str]:
     """The summary's sentences: FE against rigid and which to trust (when FE ran), the
     prediction's share within 20 % (Table 2), the collapse margin against FEMA P695."""
@@ -250,7 +250,7 @@ def write_summary(report, results, motions, settings, record_set: str, *, table2
                  caption="[[critical SA]] [g]: median (lowest–highest) failed/cases, over the "
                  "answers that are not [[uncertain]]; the FE model's over the records it ran "
                  "on")
-    report.items(summary_lines(results, settings, table2_rows=table2_rows,
+    report.items(summary_lines(table2_rows=table2_rows,
                                fragility_rows=fragility_rows, fem_stats=fem_stats))
     report.paragraph("Details, figures and every number below; every term in the "
                      "[[#glossary|glossary]] at the end.")
