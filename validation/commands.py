@@ -6,6 +6,7 @@ into one line by :func:`validation.cli.main`."""
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from pathlib import Path
 
@@ -34,7 +35,9 @@ class NoAnswerError(Exception):
 
 
 def _output_folder(path: str) -> Path:
-    folder = Path(path)
+    """The output folder as an absolute path (workers on a cluster have other working
+    folders), created and checked writable."""
+    folder = Path(os.path.abspath(path))
     try:
         folder.mkdir(parents=True, exist_ok=True)
         probe = folder / ".write-test"
@@ -224,7 +227,8 @@ def validate(args) -> int:
     start = time.perf_counter()
     progress = None if args.progress else False
     results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
-                                          workers=args.workers, progress=progress)
+                                          workers=args.workers, progress=progress,
+                                          worker_wait=args.worker_wait)
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
         numerical = [a for a in res.actual if a.numerical_failures]
