@@ -43,6 +43,7 @@ from .commands import (  # the commands, and what their help texts quote
     QUICK_FEM_STEP,
     QUICK_RECORDS,
     CommandError,
+    MachineError,
     NoAnswerError,
     critical,
     pulses,
@@ -302,6 +303,8 @@ def _describe(exc: BaseException) -> tuple[str, int]:
                 "so far are kept: free some space and rerun to resume", EXIT_FAILED)
     if isinstance(exc, (CommandError, ValueError)):  # RecordFormatError is a ValueError
         return f"error: {exc}", EXIT_USAGE
+    if isinstance(exc, MachineError):
+        return f"error: {exc}", EXIT_FAILED
     if isinstance(exc, NoAnswerError):
         return f"no answer: {exc}", EXIT_FAILED
     if isinstance(exc, NumericalInstabilityError):
@@ -324,6 +327,26 @@ def _describe(exc: BaseException) -> tuple[str, int]:
             f"{type(exc).__name__}: {exc}", EXIT_BUG)
 
 
+def _quiet_dask():
+    """Silence Dask's loggers in this process (a lost scheduler logs tracebacks of its own;
+    ``dfp`` says it in one line; ``--debug`` keeps them); return what restores them."""
+    try:
+        import distributed  # noqa: F401 - sets up its loggers, which are then turned down
+    except ImportError:  # --scheduler without dask: the run says so
+        return lambda: None
+    names = [n for n in list(logging.root.manager.loggerDict)
+             if n == "distributed" or n.startswith("distributed.")]
+    levels = {n: logging.getLogger(n).level for n in names}
+    for name in names:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+    def restore():
+        for name, level in levels.items():
+            logging.getLogger(name).setLevel(level)
+
+    return restore
+
+
 def _terminate(signum, frame):
     raise Terminated()
 
@@ -341,10 +364,7 @@ def main(argv=None) -> int:
     def show(message, category, filename, lineno, file=None, line=None):
         print(f"{prefix}: warning: {one_line(message)}", file=sys.stderr)
 
-    dask_log = logging.getLogger("distributed")
-    dask_level = dask_log.level
-    if not args.debug:  # Dask's own log lines (a lost scheduler's tracebacks): one line here
-        dask_log.setLevel(logging.CRITICAL + 1)
+    quiet = _quiet_dask() if getattr(args, "scheduler", None) and not args.debug else None
     previous = None
     try:
         previous = signal.signal(signal.SIGTERM, _terminate)
@@ -370,7 +390,8 @@ def main(argv=None) -> int:
         print(f"{prefix}: {one_line(message)}", file=sys.stderr)
         return status
     finally:
-        dask_log.setLevel(dask_level)
+        if quiet is not None:
+            quiet()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
         lock = getattr(args, "_lock", None)
