@@ -244,12 +244,12 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
-def test_a_signal_cancels_the_tasks_on_the_workers(cluster, tmp_path, signum):
-    """SIGTERM or SIGINT while both workers spin in 120-s tasks (8 submitted): the run ends,
+def test_sigterm_cancels_the_tasks_on_the_workers(cluster, tmp_path):
+    """SIGTERM while both workers spin in 120-s tasks (8 submitted): the run ends,
     the scheduler keeps no task of it, no queued task starts, and the workers are idle
     within 5 s of the signal: less than 0.5 s of CPU each from 3 to 5 s after it (a task
-    still spinning takes about 2 s; an idle worker about 0.1 s)."""
+    still spinning takes about 2 s; an idle worker about 0.1 s). Ctrl-C (SIGINT) takes the
+    same way out of the runner (a KeyboardInterrupt, of which SIGTERM's Terminated is one)."""
     flag = tmp_path / "started"
     run = subprocess.Popen([sys.executable, "-c", SIGNALLED_RUN.format(tests=str(TESTS)),
                             cluster.address, str(tmp_path / "s.sqlite"), str(flag)],
@@ -260,7 +260,7 @@ def test_a_signal_cancels_the_tasks_on_the_workers(cluster, tmp_path, signum):
             time.sleep(0.1)
         pids = {int(f.read_text()) for f in tmp_path.glob("started-*")}
         assert len(pids) == 2, "the tasks did not start on both workers"
-        run.send_signal(signum)
+        run.send_signal(signal.SIGTERM)
         signalled = time.monotonic()
         assert run.wait(timeout=30) == 130
     finally:
@@ -304,7 +304,7 @@ def test_a_worker_without_the_output_folder_returns_its_result(tmp_path):
 
     kwargs = {"bearing": dataclasses.asdict(rigid.DFPBearing(pressure=10e6)), "name": "p",
               "dt": 0.01, "acceleration": _pulse(0.2), "criteria": [4], "step": 0.01 * G,
-              "stop": 0.4 * G, "search": "fast"}
+              "stop": 0.3 * G, "search": "fast"}
     elsewhere = tmp_path / "client-only" / "out" / "ladders"
     without = record_task(**kwargs, cache=str(elsewhere))
     assert not (tmp_path / "client-only").exists()
