@@ -209,7 +209,7 @@ def test_lost_scheduler_is_one_line_with_what_was_kept(tmp_path):
     assert 1 <= kept < 12 and elapsed < 30
 
 
-# --------------------------------------------------------------------------- SIGTERM, SIGINT
+# --------------------------------------------------------------------------- SIGTERM, SIGKILL
 
 
 def _spin(seconds, flag):
@@ -244,12 +244,14 @@ def _cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def test_sigterm_cancels_the_tasks_on_the_workers(cluster, tmp_path):
-    """SIGTERM while both workers spin in 120-s tasks (8 submitted): the run ends,
-    the scheduler keeps no task of it, no queued task starts, and the workers are idle
-    within 5 s of the signal: less than 0.5 s of CPU each from 3 to 5 s after it (a task
-    still spinning takes about 2 s; an idle worker about 0.1 s). Ctrl-C (SIGINT) takes the
-    same way out of the runner (a KeyboardInterrupt, of which SIGTERM's Terminated is one)."""
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGKILL])
+def test_a_stopped_run_stops_its_tasks_on_the_workers(cluster, tmp_path, signum):
+    """SIGTERM (or SIGKILL: the scheduler drops a vanished client's tasks) while both workers
+    spin in 120-s tasks (8 submitted): the run ends, the scheduler keeps no task of it, no
+    queued task starts, and the workers are idle within 5 s of the signal: less than 0.5 s
+    of CPU each from 3 to 5 s after it (a task still spinning takes about 2 s; an idle worker
+    about 0.1 s). Ctrl-C (SIGINT) takes SIGTERM's way out of the runner (a
+    KeyboardInterrupt, of which SIGTERM's Terminated is one)."""
     flag = tmp_path / "started"
     run = subprocess.Popen([sys.executable, "-c", SIGNALLED_RUN.format(tests=str(TESTS)),
                             cluster.address, str(tmp_path / "s.sqlite"), str(flag)],
@@ -260,9 +262,9 @@ def test_sigterm_cancels_the_tasks_on_the_workers(cluster, tmp_path):
             time.sleep(0.1)
         pids = {int(f.read_text()) for f in tmp_path.glob("started-*")}
         assert len(pids) == 2, "the tasks did not start on both workers"
-        run.send_signal(signal.SIGTERM)
+        run.send_signal(signum)
         signalled = time.monotonic()
-        assert run.wait(timeout=30) == 130
+        assert run.wait(timeout=30) == (130 if signum == signal.SIGTERM else -signum)
     finally:
         if run.poll() is None:
             run.kill()
