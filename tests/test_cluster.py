@@ -170,6 +170,39 @@ def test_no_workers_is_a_bounded_wait_with_one_line(tmp_path, capsys):
         out / "progress.log").read_text()
 
 
+def test_workers_all_gone_mid_run_is_a_bounded_wait(tmp_path):
+    """The only worker killed (with its nanny) while it runs a task: after --worker-wait
+    seconds without a worker the run stops with the cluster's error, saying what was kept;
+    the progress log says it waited."""
+    from rigid.tasks import ClusterError
+
+    lone = Cluster(tmp_path / "lone", workers=1)
+    flag, log = tmp_path / "started", tmp_path / "progress.log"
+
+    def kill_the_worker():
+        deadline = time.monotonic() + 4 * START
+        while not list(tmp_path.glob("started-*")) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        os.killpg(lone.procs[1].pid, signal.SIGKILL)
+
+    killer = threading.Thread(target=kill_the_worker)
+    killer.start()
+    tasks = [Task(str(i), "spin", _spin, {"seconds": 120, "flag": f"{flag}-{i}"})
+             for i in range(2)]
+    try:
+        with pytest.raises(ClusterError) as error:
+            run_tasks(tasks, ResultStore(tmp_path / "s.sqlite"), scheduler=lone.address,
+                      progress=False, worker_wait=2, log=log)
+    finally:
+        killer.join()
+        lone.stop()
+    assert str(error.value) == (f"every Dask worker of the scheduler at {lone.address} left "
+                                f"and none came back within 2 s; 0 results stored in "
+                                f"{tmp_path / 's.sqlite'}; rerun to resume")
+    assert f"every Dask worker left {lone.address}; waiting for one (up to 2 s)" in \
+        log.read_text()
+
+
 # --------------------------------------------------------------------------- scheduler lost
 
 
@@ -204,8 +237,9 @@ def test_lost_scheduler_is_one_line_with_what_was_kept(tmp_path):
         lost.stop()
     kept = _stored(out / "results.sqlite")
     assert run.returncode == cli.EXIT_CLUSTER, err
+    results = "result" if kept == 1 else "results"
     assert err == (f"dfp validate: error: lost the Dask scheduler at {lost.address}; {kept} "
-                   f"results stored in {out / 'results.sqlite'}; rerun to resume\n")
+                   f"{results} stored in {out / 'results.sqlite'}; rerun to resume\n")
     assert 1 <= kept < 12 and elapsed < 30
 
 

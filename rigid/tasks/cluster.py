@@ -104,6 +104,7 @@ class DaskExecutor:
             raise ClusterError(f"cannot reach the Dask scheduler at {self.address}: "
                                f"{' '.join(str(exc).split())}") from None
         self._alone_since = None  # when the scheduler was last seen without workers
+        self._say = lambda text: None
         self.capacity = self._capacity()
 
     def _capacity(self) -> int:
@@ -112,20 +113,23 @@ class DaskExecutor:
             return max(1, 2 * sum(self.client.nthreads().values()))
 
     def _lost(self, exc) -> bool:
-        return (self.client.status != "running"
-                or "scheduler-connection-lost" in str(exc)
-                or type(exc).__name__ == "CommClosedError")
+        from distributed.comm.core import CommClosedError
+
+        return (self.client.status != "running" or isinstance(exc, CommClosedError)
+                or "scheduler-connection-lost" in str(exc))
 
     @contextlib.contextmanager
     def _guard(self):
         """Raise the errors of a lost scheduler, or of a task that killed its workers, as
         :class:`ClusterError`; a task's own error as it is."""
+        from distributed.scheduler import KilledWorker
+
         try:
             yield
         except ClusterError:
             raise
         except Exception as exc:
-            if type(exc).__name__ == "KilledWorker":
+            if isinstance(exc, KilledWorker):
                 raise ClusterError(f"a task killed every Dask worker that ran it (scheduler "
                                    f"{self.address}; out of memory?): {exc}") from None
             if self._lost(exc):
@@ -137,6 +141,7 @@ class DaskExecutor:
         ``say(text)`` that it waits; :class:`ClusterError` if none comes."""
         from dask.distributed import TimeoutError as DaskTimeout  # asyncio's before 3.11
 
+        self._say = say
         with self._guard():
             if self.client.nthreads():
                 return
@@ -177,10 +182,14 @@ class DaskExecutor:
                 workers = self.client.nthreads()
             now = time.monotonic()
             if workers:
+                if self._alone_since is not None:
+                    self._say("")
                 self._alone_since = None
                 self.capacity = max(1, 2 * sum(workers.values()))
             elif self._alone_since is None:
                 self._alone_since = now
+                self._say(f"every Dask worker left {self.address}; waiting for one (up to "
+                          f"{self.worker_wait:g} s)")
             elif now - self._alone_since > self.worker_wait:
                 raise ClusterError(f"every Dask worker of the scheduler at {self.address} "
                                    f"left and none came back within {self.worker_wait:g} s")

@@ -393,8 +393,9 @@ def run_tasks(
                 finish(task, result, seconds)
     except ClusterError as exc:
         executor.close(cancel=True, futures=in_flight)
-        kept = (f"{store.count()} results stored in {store.path}" if store is not None
-                else f"{len(results)} results done")
+        n = store.count() if store is not None else len(results)
+        kept = f"{n} result{'' if n == 1 else 's'} " + (
+            f"stored in {store.path}" if store is not None else "done")
         raise ClusterError(f"{exc}; {kept}; rerun to resume") from None
     except BaseException:
         executor.close(cancel=True, futures=in_flight)
