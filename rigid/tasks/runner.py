@@ -75,19 +75,41 @@ def _one_blas_thread():
     return threadpool_limits(limits=1)
 
 
-#: Seconds between two looks of a local worker at its parent where Linux's parent-death
-#: signal is missing (:func:`_die_with_parent`).
+#: Seconds between two looks of a local worker at the pool's owner where Linux's parent-death
+#: signal cannot serve (:func:`_die_with_parent`).
 _PARENT_LOOK = 1.0
 
 
-def _die_with_parent(parent: int, initializer=None):
-    """Initializer of the local pool's workers: end with the process that started them, even
-    when it is killed by SIGKILL and cannot stop them (an FE run in an orphaned worker went
-    on for minutes, holding 300 MB). On Linux the kernel sends SIGKILL at the parent's death
-    (``prctl(PR_SET_PDEATHSIG)``); elsewhere a daemon thread polls the parent's process id
-    every :data:`_PARENT_LOOK` seconds. Then runs the caller's ``initializer``."""
+def _exists(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie, dead but not yet reaped, does not)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:  # no /proc: alive as far as can be told
+        return True
+
+
+def _die_with_parent(owner: int, initializer=None):
+    """Initializer of the local pool's workers: end with the process that made the pool
+    (``owner``), even when it is killed by SIGKILL and cannot stop them (an FE run in an
+    orphaned worker went on for minutes, holding 300 MB); then run the caller's
+    ``initializer``.
+
+    Spawned workers are the owner's children: on Linux the kernel sends them SIGKILL at its
+    death (``prctl(PR_SET_PDEATHSIG)``). A forkserver's workers are the server's children,
+    and the server lives as long as they do; they, and workers where the signal is missing,
+    run a daemon thread that looks every :data:`_PARENT_LOOK` seconds whether the owner still
+    runs and ends the process when it does not (as soon as the task lets Python run: a Numba
+    call holds the interpreter until it returns)."""
+    parent = os.getppid()
     armed = False
-    if sys.platform.startswith("linux"):
+    if parent == owner and sys.platform.startswith("linux"):
         try:
             import ctypes
 
@@ -95,15 +117,15 @@ def _die_with_parent(parent: int, initializer=None):
             armed = libc.prctl(1, signal.SIGKILL, 0, 0, 0) == 0  # 1: PR_SET_PDEATHSIG
         except (OSError, AttributeError):
             armed = False
-    if os.getppid() != parent:  # the parent died before the signal was armed
-        os._exit(1)
+    if not _exists(owner) or (parent == owner and os.getppid() != owner):
+        os._exit(1)  # the owner died before the signal was armed
     if not armed:
         def watch():
-            while os.getppid() == parent:
+            while os.getppid() == parent and _exists(owner):
                 time.sleep(_PARENT_LOOK)
             os._exit(1)
 
-        threading.Thread(target=watch, daemon=True, name="dfp-parent-watch").start()
+        threading.Thread(target=watch, daemon=True, name="dfp-owner-watch").start()
     if initializer is not None:
         initializer()
 
@@ -393,9 +415,11 @@ def run_tasks(
                 finish(task, result, seconds)
     except ClusterError as exc:
         executor.close(cancel=True, futures=in_flight)
-        n = store.count() if store is not None else len(results)
-        kept = f"{n} result{'' if n == 1 else 's'} " + (
-            f"stored in {store.path}" if store is not None else "done")
+        n, where = len(results), "done"
+        if store is not None:
+            with contextlib.suppress(OSError):  # a store that fails too: the results seen
+                n, where = store.count(), f"stored in {store.path}"
+        kept = f"{n} result{'' if n == 1 else 's'} {where}"
         raise ClusterError(f"{exc}; {kept}; rerun to resume") from None
     except BaseException:
         executor.close(cancel=True, futures=in_flight)
