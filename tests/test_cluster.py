@@ -371,9 +371,10 @@ def _fe_task():
 
 def test_a_worker_killed_during_an_fe_run_is_retried_with_the_same_answer(cluster, tmp_path,
                                                                          monkeypatch):
-    """kill -9 of the worker process running an FE run, a second into it: Dask runs it again
-    on a worker and the answer equals an uninterrupted run in this process (bit for bit but
-    for the seconds it took)."""
+    """kill -9 of the worker process running an FE run, half a second into it (the run and
+    the worker's first import of the FE model take seconds): Dask runs it again on a worker
+    and the answer equals an uninterrupted run in this process (bit for bit but for the
+    seconds it took)."""
     monkeypatch.setenv("DFP_CACHE_DIR", cluster.env["DFP_CACHE_DIR"])  # the same meshes
     task = _fe_task()
     reference = run_tasks([task], None, workers=1, progress=False)["fe"]
@@ -395,7 +396,7 @@ def test_a_worker_killed_during_an_fe_run_is_retried_with_the_same_answer(cluste
             victim = next((w for w, keys in client.processing().items() if keys), None)
             time.sleep(0.05)
         assert victim is not None, "the FE run never started"
-        time.sleep(1.0)
+        time.sleep(0.5)
         assert client.processing()[victim], "the FE run ended before the worker was killed"
         os.kill(pids[victim], signal.SIGKILL)
         thread.join(timeout=4 * START)
