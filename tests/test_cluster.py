@@ -5,8 +5,8 @@ user starts them, never a LocalCluster in this process.
 Oracles: the exit statuses and one-line messages of docs/limits.md, the result store's count,
 the scheduler's own view (its workers, the tasks they process), the workers' CPU time in
 /proc, the folders the workers could have written to, and an uninterrupted in-process run.
-Each workload is the smallest that shows the fault: one or a few rigid-only records, sleeping
-or spinning tasks, one 2-s FE run on the coarse mesh.
+Each workload is the smallest that shows the fault: one or a few rigid-only records, tasks
+spinning in Python, one 2-s FE run on the coarse mesh.
 """
 
 from __future__ import annotations
