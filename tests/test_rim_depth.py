@@ -119,8 +119,8 @@ def test_law_from_the_ring_push(monkeypatch):
     # The 3-D push's curve, hinge and gauge strain become the law's: a push whose gauge
     # strain reaches the rupture strain (0.1906) at 1.2 mm gives that rupture displacement;
     # the hinge is the push's; the stiffness is the elastic push's secant.
-    import fem.ring
     import fem.rim_laws as laws
+    import fem.ring
 
     d = np.linspace(0.0, 17.5e-3, 71)
     force = 2e6 * (1.0 - np.exp(-d / 1e-3))
