@@ -6,8 +6,11 @@ exit status: 0 done; 1 no trustworthy answer (numerical instability, an answer t
 on numerical rungs) or a problem of the machine (a file that cannot be written, a full disk,
 a damaged store that cannot be rebuilt, out of memory, an output folder in use); 2 bad input
 (arguments, record files, manifests); 3 an internal error (a bug: please report it; ``--debug``
-shows the traceback); 130 interrupted (Ctrl-C); 143 terminated (SIGTERM). An interrupted or
-terminated run stops its worker processes and keeps every result stored so far.
+shows the traceback); 4 the Dask cluster cannot go on (its scheduler unreachable or lost, no
+worker within ``--worker-wait``, a task that kills its workers: the results stored so far are
+kept, rerun to resume); 130 interrupted (Ctrl-C); 143 terminated (SIGTERM). An interrupted or
+terminated run stops its worker processes (on a cluster: cancels its tasks, which stop on the
+workers) and keeps every result stored so far.
 
 This module parses the arguments and turns errors into that one line (:func:`main`); the
 commands themselves are in :mod:`validation.commands`.
@@ -16,6 +19,8 @@ commands themselves are in :mod:`validation.commands`.
 from __future__ import annotations
 
 import argparse
+import errno
+import logging
 import math
 import re
 import signal
@@ -41,6 +46,7 @@ from .commands import (  # the commands, and what their help texts quote
     QUICK_FEM_STEP,
     QUICK_RECORDS,
     CommandError,
+    MachineError,
     NoAnswerError,
     bearing,
     critical,
@@ -55,7 +61,10 @@ MAX_WORKERS = 256
 #: Longest error message printed [characters].
 MAX_MESSAGE = 400
 
-EXIT_FAILED, EXIT_USAGE, EXIT_BUG, EXIT_INTERRUPTED, EXIT_TERMINATED = 1, 2, 3, 130, 143
+EXIT_FAILED, EXIT_USAGE, EXIT_BUG, EXIT_CLUSTER = 1, 2, 3, 4
+EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
+#: Default longest wait for a Dask worker [s] (``dfp validate --worker-wait``).
+WORKER_WAIT = 60.0
 
 
 class Terminated(KeyboardInterrupt):
@@ -352,7 +361,11 @@ def _validate_parser(sub):
                    "and the FE rims' effective depth at the one limit state searched; the "
                    "first use of a rim geometry runs a 3-D push, about half an hour)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
-    p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes)")
+    p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes);"
+                   " the results come back here, the workers need no view of --out")
+    p.add_argument("--worker-wait", type=_number(float, 0, 86400, " s"), default=WORKER_WAIT,
+                   help="with --scheduler: longest wait [s] for a Dask worker, at the start "
+                   f"and whenever all have left (default {WORKER_WAIT:g})")
     p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),
                    help=f"local worker processes (1-{MAX_WORKERS})")
     p.add_argument("--no-progress", dest="progress", action="store_false",
@@ -365,10 +378,19 @@ def _describe(exc: BaseException) -> tuple[str, int]:
     import sqlite3
 
     from rigid import NumericalInstabilityError
-    from rigid.tasks import FolderBusyError, StoreError
+    from rigid.tasks import ClusterError, FolderBusyError, StoreError
 
+    if isinstance(exc, ClusterError):
+        return f"error: {exc}", EXIT_CLUSTER
+    full = isinstance(exc, OSError) and exc.errno == errno.ENOSPC
+    if full and not isinstance(exc, StoreError):  # a store's message names it and says so
+        where = f" writing {exc.filename}" if exc.filename else ""
+        return (f"error: the disk is full{where} ({exc.strerror or exc}); the results stored "
+                "so far are kept: free some space and rerun to resume", EXIT_FAILED)
     if isinstance(exc, (CommandError, ValueError)):  # RecordFormatError is a ValueError
         return f"error: {exc}", EXIT_USAGE
+    if isinstance(exc, MachineError):
+        return f"error: {exc}", EXIT_FAILED
     if isinstance(exc, NoAnswerError):
         return f"no answer: {exc}", EXIT_FAILED
     if isinstance(exc, NumericalInstabilityError):
@@ -391,6 +413,26 @@ def _describe(exc: BaseException) -> tuple[str, int]:
             f"{type(exc).__name__}: {exc}", EXIT_BUG)
 
 
+def _quiet_dask():
+    """Silence Dask's loggers in this process (a lost scheduler logs tracebacks of its own;
+    ``dfp`` says it in one line; ``--debug`` keeps them); return what restores them."""
+    try:
+        import distributed  # noqa: F401 - sets up its loggers, which are then turned down
+    except ImportError:  # --scheduler without dask: the run says so
+        return lambda: None
+    names = [n for n in list(logging.root.manager.loggerDict)
+             if n == "distributed" or n.startswith("distributed.")]
+    levels = {n: logging.getLogger(n).level for n in names}
+    for name in names:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+    def restore():
+        for name, level in levels.items():
+            logging.getLogger(name).setLevel(level)
+
+    return restore
+
+
 def _terminate(signum, frame):
     raise Terminated()
 
@@ -408,6 +450,7 @@ def main(argv=None) -> int:
     def show(message, category, filename, lineno, file=None, line=None):
         print(f"{prefix}: warning: {one_line(message)}", file=sys.stderr)
 
+    quiet = _quiet_dask() if getattr(args, "scheduler", None) and not args.debug else None
     previous = None
     try:
         previous = signal.signal(signal.SIGTERM, _terminate)
@@ -433,6 +476,8 @@ def main(argv=None) -> int:
         print(f"{prefix}: {one_line(message)}", file=sys.stderr)
         return status
     finally:
+        if quiet is not None:
+            quiet()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
         lock = getattr(args, "_lock", None)

@@ -1,12 +1,15 @@
 """The commands of ``dfp`` (simulate, pulses, critical, validate): each takes the parsed
 arguments (:func:`validation.cli.build_parser`) and returns an exit status; errors are raised as
-:class:`CommandError` (bad input) or :class:`NoAnswerError` (no trustworthy answer) and turned
-into one line by :func:`validation.cli.main`."""
+:class:`CommandError` (bad input), :class:`NoAnswerError` (no trustworthy answer) or
+:class:`MachineError` (a read-only or full output folder) and turned into one line by
+:func:`validation.cli.main`."""
 
 from __future__ import annotations
 
 import dataclasses
+import errno
 import math
+import os
 import warnings
 from pathlib import Path
 
@@ -16,8 +19,8 @@ from rigid.limits import MAX_RECORD_ACCELERATION
 from rigid.motions import FEMA_P695_SETS
 from rigid.units import G
 
-__all__ = ["CommandError", "NoAnswerError", "bearing", "critical", "pulses", "simulate",
-           "validate"]
+__all__ = ["CommandError", "MachineError", "NoAnswerError", "bearing", "critical", "pulses",
+           "simulate", "validate"]
 
 #: Records of the quick run: the first components of the first FEMA P695 records of the set.
 QUICK_RECORDS = 4
@@ -40,6 +43,11 @@ class NoAnswerError(Exception):
     """The computation ran but gives no trustworthy answer: printed as one line, exit 1."""
 
 
+class MachineError(Exception):
+    """A problem of the machine, not of the input (a read-only or full output folder):
+    printed as one line, exit 1."""
+
+
 def did_you_mean(word: str, choices) -> str:
     """`` (did you mean X?)`` for the choice nearest ``word`` (:func:`difflib.get_close_matches`),
     or "" when none is near."""
@@ -50,14 +58,19 @@ def did_you_mean(word: str, choices) -> str:
 
 
 def _output_folder(path: str) -> Path:
-    folder = Path(path)
+    """The output folder as an absolute path (workers on a cluster have other working
+    folders), created and checked writable."""
+    folder = Path(os.path.abspath(path))
     try:
         folder.mkdir(parents=True, exist_ok=True)
         probe = folder / ".write-test"
         probe.write_text("")
         probe.unlink()
     except OSError as exc:
-        raise CommandError(f"cannot write to output folder {folder}: {exc.strerror}") from None
+        message = f"cannot write to output folder {folder}: {exc.strerror}"
+        if exc.errno in (errno.EROFS, errno.EACCES, errno.EPERM, errno.ENOSPC, errno.EDQUOT):
+            raise MachineError(message) from None
+        raise CommandError(message) from None  # a file in the way, a name too long, …
     return folder
 
 
@@ -311,7 +324,8 @@ def validate(args) -> int:
     start = time.perf_counter()
     progress = None if args.progress else False
     results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
-                                          workers=args.workers, progress=progress)
+                                          workers=args.workers, progress=progress,
+                                          worker_wait=args.worker_wait)
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
         numerical = [a for a in res.actual if a.numerical_failures]

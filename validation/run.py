@@ -6,6 +6,7 @@ are stored as they finish, then collected into tables for the report."""
 from __future__ import annotations
 
 import dataclasses
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -118,9 +119,15 @@ def record_task(bearing: dict, name: str, dt: float, acceleration, criteria, ste
     (:class:`rigid.rims.RimLaw`, from :func:`fem.rim_law`).
 
     Parameters are plain data (the bearing as ``dataclasses.asdict``; the record's samples
-    [m/s²] and dt [s]) so that the task pickles cheaply and hashes exactly.
+    [m/s²] and dt [s]) so that the task pickles cheaply and hashes exactly. ``cache`` is the
+    rung cache's folder (absolute) inside the run's output folder; a worker that does not see
+    that folder (a Dask worker without the client's file system) runs without it rather
+    than create the path on its own disk: its results still go back to the client's store.
     """
     from rigid import GroundMotion, critical_sa, predict_critical_sa
+
+    if cache is not None and not Path(cache).parent.is_dir():
+        cache = None
 
     b = DFPBearing(**bearing)
     motion = GroundMotion(name=name, dt=dt, acceleration=np.asarray(acceleration, dtype=float))
@@ -170,8 +177,9 @@ install_short_repr(PressureResults)
 
 
 def rigid_tasks(motions, settings: Settings, out: Path):
-    """The rigid record tasks and, by key, their (pressure [Pa], record index)."""
-    cache = str(out / "ladders")
+    """The rigid record tasks and, by key, their (pressure [Pa], record index); their rung
+    cache is ``<out>/ladders`` as an absolute path (workers may run elsewhere)."""
+    cache = os.path.join(os.path.abspath(out), "ladders")
     tasks, index = [], {}
     for pressure in settings.pressures:
         bearing = dataclasses.asdict(settings.bearing_at(pressure))
@@ -207,7 +215,8 @@ def _collect_rigid(tasks, index, results, settings) -> dict:
 
 
 def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
-              workers: int | None = None, progress: bool | None = None) -> dict:
+              workers: int | None = None, progress: bool | None = None,
+              worker_wait: float = 60.0) -> dict:
     """Critical SA and predictions for every record and pressure.
 
     Returns
@@ -217,19 +226,20 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
     tasks, index = rigid_tasks(motions, settings, out)
     with ResultStore(out / "results.sqlite") as store:
         results = run_tasks(tasks, store, scheduler=scheduler, workers=workers,
-                            progress=progress, description="rigid critical SA",
-                            log=out / "progress.log")
+                            progress=progress, worker_wait=worker_wait,
+                            description="rigid critical SA", log=out / "progress.log")
     return _collect_rigid(tasks, index, results, settings)
 
 
 def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
                    workers: int | None = None, progress: bool | None = None,
-                   fem_runner=None):
+                   fem_runner=None, worker_wait: float = 60.0):
     """The rigid ladders and predictions, and the FE searches, in one run of tasks: a
     record's FE search starts as soon as its rigid critical SA is known (the FE records'
     rigid tasks are queued first), so FE runs overlap the remaining rigid work.
 
-    ``fem_runner`` replaces :func:`validation.fem_search.fem_run` (tests).
+    ``fem_runner`` replaces :func:`validation.fem_search.fem_run` (tests); ``scheduler``,
+    ``workers``, ``progress`` and ``worker_wait`` [s] are :func:`rigid.tasks.run_tasks`'s.
 
     Returns
     -------
@@ -262,7 +272,7 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
                                   stop=settings.stop, stored=store.get,
                                   **({} if fem_runner is None else {"runner": fem_runner}))
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
-                            workers=workers, progress=progress,
+                            workers=workers, progress=progress, worker_wait=worker_wait,
                             description="rigid ladders and FE runs", log=out / "progress.log")
     rigid_results = _collect_rigid(tasks, index, results, settings)
     fem: dict = {}

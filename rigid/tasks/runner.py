@@ -12,14 +12,18 @@ their tasks and pass no store.
 from __future__ import annotations
 
 import contextlib
+import functools
 import multiprocessing
 import os
+import signal
 import sys
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
+from .cluster import ClusterError, DaskExecutor, _timed
 from .progress import Progress, running, watch
 from .store import ResultStore
 
@@ -40,12 +44,6 @@ class Task:
     kwargs: dict = field(default_factory=dict)
     size: int = 1
     leads: bool = True
-
-
-def _timed(func, kwargs):
-    start = time.perf_counter()
-    result = func(**kwargs)
-    return result, time.perf_counter() - start
 
 
 def default_workers() -> int:
@@ -75,6 +73,61 @@ def _one_blas_thread():
     return threadpool_limits(limits=1)
 
 
+#: Seconds between two looks of a local worker at the pool's owner where Linux's parent-death
+#: signal cannot serve (:func:`_die_with_parent`).
+_PARENT_LOOK = 1.0
+
+
+def _exists(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie, dead but not yet reaped, does not)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:  # no /proc: alive as far as can be told
+        return True
+
+
+def _die_with_parent(owner: int, initializer=None):
+    """Initializer of the local pool's workers: end with the process that made the pool
+    (``owner``), even when it is killed by SIGKILL and cannot stop them (an FE run in an
+    orphaned worker went on for minutes, holding 300 MB); then run the caller's
+    ``initializer``.
+
+    Spawned workers are the owner's children: on Linux the kernel sends them SIGKILL at its
+    death (``prctl(PR_SET_PDEATHSIG)``). A forkserver's workers are the server's children,
+    and the server lives as long as they do; they, and workers where the signal is missing,
+    run a daemon thread that looks every :data:`_PARENT_LOOK` seconds whether the owner still
+    runs and ends the process when it does not (as soon as the task lets Python run: a Numba
+    call holds the interpreter until it returns)."""
+    parent = os.getppid()
+    armed = False
+    if parent == owner and sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            armed = libc.prctl(1, signal.SIGKILL, 0, 0, 0) == 0  # 1: PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            armed = False
+    if not _exists(owner) or (parent == owner and os.getppid() != owner):
+        os._exit(1)  # the owner died before the signal was armed
+    if not armed:
+        def watch():
+            while os.getppid() == parent and _exists(owner):
+                time.sleep(_PARENT_LOOK)
+            os._exit(1)
+
+        threading.Thread(target=watch, daemon=True, name="dfp-owner-watch").start()
+    if initializer is not None:
+        initializer()
+
+
 class _Local:
     """A process pool (``spawn`` by default: fork is unsafe with Numba threads); with one
     worker, tasks run in this process instead (simplest to debug and profile), with one BLAS
@@ -92,8 +145,12 @@ class _Local:
             for var in _THREAD_VARIABLES:
                 os.environ.setdefault(var, "1")
             context = multiprocessing.get_context(start_method)
-            self.pool = ProcessPoolExecutor(max_workers=workers, mp_context=context,
-                                            initializer=initializer)
+            # the workers die with this process (_die_with_parent); Linux sends the signal
+            # when the thread that started them ends, so they are started here, by the
+            # thread that runs the tasks, which outlives the pool
+            self.pool = ProcessPoolExecutor(
+                max_workers=workers, mp_context=context,
+                initializer=functools.partial(_die_with_parent, os.getpid(), initializer))
 
     def submit(self, task):
         from concurrent.futures import Future
@@ -105,6 +162,9 @@ class _Local:
             future.set_result(_timed(task.func, task.kwargs))
         return future
 
+    def start(self, say):
+        """Nothing to wait for: the pool's workers start with the first tasks."""
+
     def wait_one(self, futures):
         from concurrent.futures import FIRST_COMPLETED, wait
 
@@ -114,7 +174,7 @@ class _Local:
     def result(future):
         return future.result()
 
-    def close(self, cancel=False):
+    def close(self, cancel=False, futures=()):
         if self.pool is None:
             return
         manager = self.pool._executor_manager_thread
@@ -129,30 +189,6 @@ class _Local:
             manager.join(timeout=10)
 
 
-class _Dask:
-    def __init__(self, scheduler):
-        from dask.distributed import Client
-
-        self.own = not isinstance(scheduler, Client)
-        self.client = Client(scheduler) if self.own else scheduler
-        self.capacity = max(1, 2 * sum(self.client.nthreads().values()))
-
-    def submit(self, task):
-        return self.client.submit(_timed, task.func, task.kwargs, key=f"{task.kind}-{task.key}",
-                                  pure=False)
-
-    def wait_one(self, futures):
-        from dask.distributed import wait
-
-        return wait(list(futures), return_when="FIRST_COMPLETED").done
-
-    @staticmethod
-    def result(future):
-        return future.result()
-
-    def close(self, cancel=False):
-        if self.own:
-            self.client.close()
 
 
 def run_tasks(
@@ -168,11 +204,16 @@ def run_tasks(
     start_method: str = "spawn",
     initializer: Callable | None = None,
     log=None,
+    worker_wait: float = 60.0,
 ) -> dict:
     """Run the tasks whose results are not in ``store``; return every result by key.
 
-    On any exception (Ctrl-C included) the tasks not yet started are cancelled and the local
-    worker processes terminated; the results stored so far stay stored.
+    On any exception (Ctrl-C included) the tasks not yet started are cancelled and the running
+    ones stopped (local workers terminated; on a cluster, the futures cancelled, which stops
+    them on the workers: :mod:`rigid.tasks.cluster`); the results stored so far stay stored.
+    Local workers also die with this process when it is killed (:func:`_die_with_parent`).
+    A cluster that cannot go on raises :class:`rigid.tasks.cluster.ClusterError`, its message
+    ending with the results stored and "rerun to resume".
 
     Parameters
     ----------
@@ -186,7 +227,8 @@ def run_tasks(
         (stored or new), e.g. the next rung of a ladder. They run before the tasks still
         queued, so that a chain of follow-ups (a search) proceeds while a long queue waits.
     scheduler : str or dask.distributed.Client, optional
-        Address of a Dask scheduler, or a client: run the tasks there.
+        Address of a Dask scheduler, or a client: run the tasks there. The results come back
+        to this process, which alone writes ``store``.
     workers : int, optional
         Local worker processes; default :func:`default_workers`; 1 runs in this process.
     progress : bool, optional
@@ -206,18 +248,34 @@ def run_tasks(
         task's kind and seconds, runs done, running and queued, and an estimate of the time
         left for the queue known then: :class:`Progress`; the same figures follow the progress
         bar) and one every :data:`~rigid.tasks.progress.HEARTBEAT` seconds.
+    worker_wait : float [s]
+        On a cluster, the longest wait for a worker, at the start (the progress bar and the
+        log say it waits) and whenever every worker has left.
     """
     from tqdm.auto import tqdm
 
     queue = deque(tasks)
     results = {}
-    executor = (_Dask(scheduler) if scheduler is not None
+    executor = (DaskExecutor(scheduler, worker_wait) if scheduler is not None
                 else _Local(workers or default_workers(), start_method, initializer))
     plain = progress is None and not sys.stderr.isatty()  # a pipe: plain lines
     progress = sys.stderr.isatty() if progress is None else progress
     bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
                disable=not progress, file=sys.stderr, dynamic_ncols=True)
     in_flight = {}
+
+    def say(text):  # on the bar, and in the log
+        bar.set_postfix_str(text)
+        if text and log is not None:
+            with open(log, "a") as fh:
+                fh.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')}: {text}\n")
+
+    try:
+        executor.start(say)
+    except BaseException:
+        bar.close()
+        executor.close(cancel=True)
+        raise
     tally = Progress(executor.capacity, log)
     started = {}  # future → when it was submitted, on tally.clock
     beat = watch(tally, queue, in_flight, started, bar=bar if progress else None,
@@ -255,8 +313,16 @@ def run_tasks(
                 if store is not None:
                     store.put(task.key, task.kind, result, seconds)
                 finish(task, result, seconds)
+    except ClusterError as exc:
+        executor.close(cancel=True, futures=in_flight)
+        n, where = len(results), "done"
+        if store is not None:
+            with contextlib.suppress(OSError):  # a store that fails too: the results seen
+                n, where = store.count(), f"stored in {store.path}"
+        kept = f"{n} result{'' if n == 1 else 's'} {where}"
+        raise ClusterError(f"{exc}; {kept}; rerun to resume") from None
     except BaseException:
-        executor.close(cancel=True)
+        executor.close(cancel=True, futures=in_flight)
         raise
     finally:
         beat.stop()

@@ -6,20 +6,25 @@ never replays an old result.
 Each result is its own transaction in WAL mode, so a killed process loses at most the
 simulation in flight and never leaves a half-written row; several processes may write to one
 file (the impact sweeps' workers do; the task runner writes from the coordinating process).
-A damaged file (a disk error, a copy taken mid-write, anything not SQLite) is detected when the
-store is opened, moved aside and rebuilt from the results that can still be read
-(:class:`StoreRecoveredWarning`); SQLite errors later on (a full disk) are raised as
-:class:`StoreError`, naming the file.
+A damaged file (a disk error, a copy cut short or taken mid-write, anything not SQLite) is
+detected when the store is opened, rebuilt beside it from the results that can still be read,
+and only then moved aside (:class:`StoreRecoveredWarning`, which says how many results were
+recovered; an empty file, which holds none, is warned about too). A problem of the machine
+rather than of the file (a full disk, a read-only folder, an I/O error) never counts as
+damage: it is raised as :class:`StoreError`, naming the file, and the store is left as it is
+(a full disk is said to be one, with ``errno`` ENOSPC).
 """
 
 from __future__ import annotations
 
 import contextlib
 import dataclasses
+import errno
 import functools
 import hashlib
 import json
 import os
+import shutil
 import sqlite3
 import time
 import warnings
@@ -70,6 +75,48 @@ class StoreRecoveredWarning(UserWarning):
     """A damaged result store was moved aside and rebuilt from what could be read."""
 
 
+#: SQLite's primary result codes that mean a damaged file (SQLITE_CORRUPT, SQLITE_NOTADB);
+#: any other error (SQLITE_FULL 13, SQLITE_IOERR 10, SQLITE_READONLY 8, SQLITE_CANTOPEN 14,
+#: …) is the machine's.
+_DAMAGE_CODES = (11, 26)
+_FULL, _IOERR = 13, 10
+#: Free space [bytes] below which an I/O error of SQLite is taken for a full disk (SQLite
+#: reports a failed write of its shared-memory file as SQLITE_IOERR).
+_NEARLY_FULL = 1 << 20
+
+
+class _Damaged(sqlite3.DatabaseError):
+    """The store's own integrity check failed."""
+
+
+def _damaged(exc) -> bool:
+    """Whether a SQLite error says the file is damaged (not the machine: :data:`_DAMAGE_CODES`)."""
+    if isinstance(exc, _Damaged):
+        return True
+    code = getattr(exc, "sqlite_errorcode", None)  # Python ≥ 3.11
+    if code is not None:
+        return code & 0xFF in _DAMAGE_CODES
+    return any(text in str(exc) for text in ("malformed", "not a database"))
+
+
+def _problem(path: Path, exc) -> StoreError:
+    """A :class:`StoreError` for a SQLite error of the store at ``path``; a full disk said to
+    be one (``errno`` ENOSPC)."""
+    code = (getattr(exc, "sqlite_errorcode", None) or 0) & 0xFF
+    try:
+        free = shutil.disk_usage(path.parent).free
+    except OSError:
+        free = None
+    if code == _FULL or "disk is full" in str(exc) or (
+            code == _IOERR and free is not None and free < _NEARLY_FULL):
+        room = "" if free is None else f", {free // 1024} kB free"
+        error = StoreError(f"result store {path}: the disk is full ({exc}{room}); the store is "
+                           "kept as it was: free some space and rerun to resume")
+        error.errno = errno.ENOSPC
+        return error
+    return StoreError(f"result store {path}: {exc}")
+
+
 def _named(method):
     """Raise SQLite errors of a store method as :class:`StoreError` naming the file."""
 
@@ -78,7 +125,7 @@ def _named(method):
         try:
             return method(self, *args, **kwargs)
         except sqlite3.Error as exc:
-            raise StoreError(f"result store {self.path}: {exc}") from None
+            raise _problem(self.path, exc) from None
 
     return call
 
@@ -101,6 +148,8 @@ def _exclusive(path: Path):
 
 
 _COLUMNS = "key, kind, result, seconds, created"
+_TABLE = ("CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
+          "result TEXT NOT NULL, seconds REAL, created REAL NOT NULL)")
 
 
 def _salvage(path: Path) -> list[tuple]:
@@ -143,32 +192,45 @@ class ResultStore:
     ----------
     path : str or Path
         Database file; created with its folder if missing. If it is damaged (SQLite's
-        ``quick_check`` fails, or it is not a database) it is moved to
-        ``<name>.damaged-<time>`` (with its WAL), a new store is built from the rows that can
-        be read, and a :class:`StoreRecoveredWarning` says so.
+        ``quick_check`` fails, or it is not a database) a new store is built beside it from
+        the rows that can be read, the damaged one is moved to ``<name>.damaged-<time>``
+        (with its WAL) and a :class:`StoreRecoveredWarning` says so; if the new one cannot be
+        written (a full disk), the damaged one stays in place. An empty file (0 bytes) is
+        opened as an empty store with a :class:`StoreRecoveredWarning`: nothing to resume
+        from. Any other error (a full disk, a read-only folder) is a :class:`StoreError`
+        and leaves the file as it is.
     """
 
     def __init__(self, path):
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with _exclusive(self.path.with_name(self.path.name + ".lock")):
+            empty = self.path.is_file() and self.path.stat().st_size == 0 and not (
+                self._wal().is_file() and self._wal().stat().st_size > 0)
             try:
                 self._db = self._open()
-            except sqlite3.DatabaseError as exc:
+            except sqlite3.Error as exc:
+                if not _damaged(exc):
+                    raise _problem(self.path, exc) from None
                 self._db = self._recover(exc)
+        if empty:
+            warnings.warn(StoreRecoveredWarning(
+                f"result store {self.path} was an empty file (0 bytes: cut short, or left by a "
+                "run stopped as it began): no stored result to resume from, every result "
+                "will be computed"), stacklevel=2)
+
+    def _wal(self) -> Path:
+        return Path(str(self.path) + "-wal")
 
     def _open(self) -> sqlite3.Connection:
         db = sqlite3.connect(self.path, isolation_level=None, timeout=30)
         try:
             status = db.execute("PRAGMA quick_check").fetchone()[0]
             if status != "ok":
-                raise sqlite3.DatabaseError(f"quick_check: {str(status)[:80]}")
+                raise _Damaged(f"quick_check: {str(status)[:80]}")
             db.execute("PRAGMA journal_mode=WAL")
             db.execute("PRAGMA synchronous=NORMAL")
-            db.execute(
-                "CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
-                "result TEXT NOT NULL, seconds REAL, created REAL NOT NULL)"
-            )
+            db.execute(_TABLE)
             db.execute(f"SELECT {_COLUMNS} FROM results LIMIT 1").fetchall()
         except sqlite3.DatabaseError:
             db.close()
@@ -176,26 +238,40 @@ class ResultStore:
         return db
 
     def _recover(self, error) -> sqlite3.Connection:
+        """Rebuild a damaged store from its readable rows: written beside it first, then the
+        damaged files moved aside and the new one renamed in place (a failure on the way,
+        a full disk, leaves the damaged store where it was)."""
+        rows = _salvage(self.path)
+        fresh = self.path.with_name(f".{self.path.name}.rebuild-{os.getpid()}")
         stamp = time.strftime("%Y%m%d-%H%M%S")
         aside = self.path.with_name(f"{self.path.name}.damaged-{stamp}-{os.getpid()}")
-        for suffix in ("", "-wal", "-shm"):
-            src = Path(str(self.path) + suffix)
-            if src.exists():
-                os.replace(src, Path(str(aside) + suffix))
-        rows = _salvage(aside)
         try:
-            db = self._open()
-            with db:
+            with contextlib.closing(sqlite3.connect(fresh, isolation_level=None)) as db:
+                db.execute(_TABLE)
                 db.execute("BEGIN")
                 db.executemany(f"INSERT OR REPLACE INTO results ({_COLUMNS}) "
                                "VALUES (?, ?, ?, ?, ?)", rows)
-        except sqlite3.Error as exc:
-            raise StoreError(f"result store {self.path} was damaged ({error}) and could not be "
-                             f"rebuilt: {exc}") from None
+                db.execute("COMMIT")
+            for suffix in ("", "-wal", "-shm"):
+                src = Path(str(self.path) + suffix)
+                if src.exists():
+                    os.replace(src, Path(str(aside) + suffix))
+            os.replace(fresh, self.path)
+        except (sqlite3.Error, OSError) as exc:
+            with contextlib.suppress(OSError):
+                fresh.unlink()
+            if isinstance(exc, sqlite3.Error):
+                exc = _problem(self.path, exc)
+            why = "the disk is full" if exc.errno == errno.ENOSPC else str(exc)
+            raise StoreError(f"result store {self.path} is damaged ({error}) and could not be "
+                             f"rebuilt ({why}); it is left where it was") from None
+        db = self._open()
+        none = "none of its results could be read: every result will be recomputed" \
+            if not rows else f"{len(rows)} stored results recovered, the others will be " \
+            "recomputed"
         warnings.warn(StoreRecoveredWarning(
             f"result store {self.path} was damaged ({str(error)[:80]}); moved to {aside.name}, "
-            f"{len(rows)} stored results recovered, the others will be recomputed"),
-            stacklevel=3)
+            f"{none}"), stacklevel=3)
         return db
 
     @_named

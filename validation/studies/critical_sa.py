@@ -206,15 +206,16 @@ def _study(args, motions, bearings, actual, yielding, out, tag):
         cm_lines.append(f"== {mpa}: {len(act)} records, {sum(a.sa is None for a in act)} "
                         f"without failure up to {act[0].stop / G:.2f} g; resurrections "
                         f"(within {args.after_failure} rungs above): {resurrected or 'none'}")
+        if args.files:  # a check on a few records: no fragility
+            cm_lines.append("")
+            continue
         fit = fit_lognormal(act)
         cm_lines.append(f"lognormal fit: median {fit.median / G:.3f} g, β = {fit.beta:.3f}")
-        if not args.files:
-            nm = [m.metadata["normalization_factor"] for m in motions]
-            cm = collapse_margin(act, period=b.design_period, sdc=args.sdc,
-                                 record_set="nearfield" if "near" in tag else "farfield",
-                                 normalization=nm)
-            cm_lines.append(cm.summary())
-        cm_lines.append("")
+        nm = [m.metadata["normalization_factor"] for m in motions]
+        cm = collapse_margin(act, period=b.design_period, sdc=args.sdc,
+                             record_set="nearfield" if "near" in tag else "farfield",
+                             normalization=nm)
+        cm_lines += [cm.summary(), ""]
     write_csv(t2_rows, out / f"table2_{tag}.csv")
     write_csv(long_rows, out / f"predictions_{tag}.csv")
     (out / f"collapse_margin_{tag}.txt").write_text("\n".join(cm_lines) + "\n")
@@ -286,9 +287,10 @@ def _figures(rows, act, by_c, out, tag, mpa, criteria):
     fig = plot_prediction(by_c[c][i], actual=act[i])
     fig.savefig(out / f"fig11_{tag}_{mpa}.png", dpi=110)
     plt.close(fig)
-    fig = plot_fragility(fit_lognormal(act), [a.sa for a in act], label=f"{tag}, {mpa}")
-    fig.savefig(out / f"fragility_{tag}_{mpa}.png", dpi=110)
-    plt.close(fig)
+    if sum(a.sa is not None for a in act) >= 2:  # a lognormal needs two failures
+        fig = plot_fragility(fit_lognormal(act), [a.sa for a in act], label=f"{tag}, {mpa}")
+        fig.savefig(out / f"fragility_{tag}_{mpa}.png", dpi=110)
+        plt.close(fig)
 
 
 if __name__ == "__main__":

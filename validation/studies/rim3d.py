@@ -33,11 +33,14 @@ from . import DOCS
 
 #: The study's folder: tables, store and figures.
 FOLDER = DOCS / "rim-3d"
-#: The rims (thickness [mm], height [mm], slider diameter [m]): the thickness sweep at the
-#: baseline's height and slider, then the taller rim and the larger slider at a thin and a
-#: thick rim.
+#: The rims (thickness [mm], height [mm], slider diameter [m]), the full factorial of four
+#: thicknesses, two heights and two sliders: the thickness sweep at the baseline's height and
+#: slider, the taller rim and the larger slider at a thin and a thick rim (the first study),
+#: then the other eight.
 GEOMETRIES = ((40, 35, 0.4), (80, 35, 0.4), (160, 35, 0.4), (320, 35, 0.4),
-              (40, 70, 0.4), (160, 70, 0.4), (40, 35, 0.6), (160, 35, 0.6))
+              (40, 70, 0.4), (160, 70, 0.4), (40, 35, 0.6), (160, 35, 0.6),
+              (80, 70, 0.4), (320, 70, 0.4), (80, 35, 0.6), (320, 35, 0.6),
+              (40, 70, 0.6), (80, 70, 0.6), (160, 70, 0.6), (320, 70, 0.6))
 #: The meshes of the convergence check (MeshSizes fields, which key the stored pushes):
 #: fem.ring's coarse and default, and a finer one made here (6 elements across the rim and up
 #: its height, 6.7 mm arcs; the plate strip as the default's: the rim's section and arc are
