@@ -112,7 +112,8 @@ def plot_answers(results: dict, fem_rows: list | None = None):
     ax.set_xlabel("critical SA(Tb) [g]: median (marker), range over records (bar)",
                   fontsize=8)
     ax.grid(axis="x", color="0.9")
-    ax.legend(fontsize=8, loc="lower right", title="slider pressure", title_fontsize=8)
+    if ax.get_legend_handles_labels()[1]:  # none when no record failed
+        ax.legend(fontsize=8, loc="lower right", title="slider pressure", title_fontsize=8)
     fig.tight_layout()
     return fig
 
