@@ -32,11 +32,15 @@ Modules (the ones needing the ``fem`` extra are imported on demand, not here):
 the other way, and never on ``validation`` (docs/architecture.md).
 """
 
+from rigid.reprs import install as _short_reprs
+
 from .limit_states import LIMIT_STATES
 from .material import Material, MaterialState, ReturnMapResult, return_map, von_mises
 from .model import FEMResult, simulate
 from .pushover import rim_pushover
 from .rim_laws import effective_rim_depth, rim_law
+
+_short_reprs(FEMResult)
 
 __all__ = [
     "LIMIT_STATES",

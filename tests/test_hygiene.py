@@ -155,3 +155,18 @@ def test_the_validation_results_print_short_too():
     text = repr(FECritical("rec A", 60e6, 0.31 * G, 0.30 * G, 0.29 * G, "yielding", 4.2,
                            probes))
     assert len(text) < 400 and "probes=[12 items]" in text and "(0.3 g)" in text
+
+
+def test_fe_results_print_short_too():
+    """An FE run's result (fem.FEMResult) with histories of 5 000 steps prints on one line of
+    fewer than 1 500 characters, each history as its shape."""
+    import dataclasses
+
+    import numpy as np
+
+    import fem
+
+    values = {f.name: np.zeros(5000) for f in dataclasses.fields(fem.FEMResult)}
+    text = repr(fem.FEMResult(**values))
+    assert "\n" not in text and len(text) < 1500 and "(5000,)" in text
+    assert "0.0, 0.0" not in text

@@ -101,7 +101,7 @@ def plot_comparison(rows, criterion: int, tolerance: float = 0.2, split: float =
     top = 1.1 * max(np.nanmax(act[ok]) if ok.any() else 1.0, np.nanmax(pre[ok]) if ok.any()
                     else 1.0)
     line = np.array([0.0, top])
-    ax.plot(line, line, "k-", lw=1)
+    ax.plot(line, line, "k-", lw=1, label="predicted = actual")
     ax.fill_between(line, line * (1 - tolerance), line * (1 + tolerance), color="0.9",
                     label=f"±{tolerance:.0%}")
     long = ok & (tp > split)
