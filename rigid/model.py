@@ -298,9 +298,8 @@ def _result(bearing, dt, record_every, on_instability, rims, limit_state, h, sum
     numerical = status == K.STATUS_NUMERICAL
     if numerical:
         message = f"{_FAILURE_DETAIL[code]} at t = {fail_time:.4f} s (internal step {h:.3g} s)"
-        if on_instability != "report":
-            raise NumericalInstabilityError(message)
-        warnings.warn(message, RuntimeWarning, stacklevel=4)
+        if on_instability == "report":
+            warnings.warn(message, RuntimeWarning, stacklevel=4)
     physical = (not numerical) and code in _PHYSICAL
     limit_states = _limit_states(summary, rims, physical, fail_time)
     mode = None
@@ -314,7 +313,7 @@ def _result(bearing, dt, record_every, on_instability, rims, limit_state, h, sum
         Impact(float(e[0]), RIM_NAMES[int(e[1])], float(e[2]), float(e[3]), float(e[4]))
         for e in events[:n_events]
     )
-    return SimulationResult(
+    result = SimulationResult(
         time=np.arange(n_rec)[::record_every] * dt,
         displacement=hs[:, K.H_XT].copy(),
         top_plate_rise=hs[:, K.H_ZT].copy(),
@@ -346,6 +345,9 @@ def _result(bearing, dt, record_every, on_instability, rims, limit_state, h, sum
         rim_sets=tuple(float(x) for x in summary[K.S_SET:K.S_SET + K.N_RIMS]),
         rim_set=hs[:, K.H_SET].copy(),
     )
+    if numerical and on_instability != "report":
+        raise NumericalInstabilityError(message, result)
+    return result
 
 
 def _set_rim_parameters(p, bearing: DFPBearing, limit_state: str, law) -> np.ndarray:

@@ -17,7 +17,18 @@ __all__ = ["EnergyBalance", "Impact", "NumericalInstabilityError", "SimulationRe
 
 
 class NumericalInstabilityError(RuntimeError):
-    """The integration went unstable (a numerical, not a physical, failure)."""
+    """The integration went unstable (a numerical, not a physical, failure).
+
+    ``result``: the run as far as it went (a :class:`SimulationResult` with
+    ``numerical_failure`` set, e.g. the limit states reached before the instability), or None.
+    """
+
+    def __init__(self, message: str, result=None):
+        super().__init__(message, result)
+        self.result = result
+
+    def __str__(self) -> str:
+        return str(self.args[0])
 
 
 @dataclass(frozen=True)

@@ -64,9 +64,12 @@ class RimLaw:
     first_yield_force : float [N]
         The backbone's start: where the push leaves the elastic line (u_p = 0).
     hinge_displacement, hinge_force : float [m, N]
-        The push's hinge (the whole root section plastic, Eq. F36).
+        The push's hinge (the whole root section plastic, Eq. F36); inf if the rim does not
+        hinge within the push to half its height (a squat rim whose inner face the slider
+        crushes instead).
     hinge_set : float [m]
-        u_p at the hinge: the hinge limit state of the rigid model (Eq. R62).
+        u_p at the hinge: the hinge limit state of the rigid model (Eq. R62); inf without a
+        hinge.
     rupture_displacement : float [m]
         δ at which the push's gauge-averaged plastic strain reaches the rupture strain
         (Eqs. F51–F52), inf if it never does within the push.
@@ -106,10 +109,9 @@ def rim_law_from_push(bearing: DFPBearing, stiffness: float, fine, full) -> RimL
     """Build the law from an elastic stiffness [N/m] and two pushes of the rim
     (:class:`fem.pushover.Pushover`): ``fine`` to the hinge and a little beyond, ``full`` to
     half the rim height (Eq. R56)."""
-    if fine.hinge_displacement is None:
-        reach = fine.displacement[-1] * 1e3
-        raise ValueError(f"the rim did not hinge within a push of {reach:.3g} mm; the "
-                         "yielding-rim law needs a rim that hinges before half its height")
+    # a squat rim may never hinge at its root (Eq. F36) before half its height: the slider
+    # crushes its inner face instead; its hinge limit state is then never reached
+    hinged = fine if fine.hinge_displacement is not None else full
     keep = full.displacement > fine.displacement[-1] * (1 + 1e-9)
     d = np.concatenate([fine.displacement, full.displacement[keep]])
     f = np.concatenate([fine.force, full.force[keep]])
@@ -123,7 +125,11 @@ def rim_law_from_push(bearing: DFPBearing, stiffness: float, fine, full) -> RimL
     keep = np.concatenate([[True], np.diff(sets) > 0])
     sets, forces = _beyond_push(sets[keep], forces[keep], LEVER_FRACTION * bearing.rim_height)
     keep = slice(None)
-    hinge_set = fine.hinge_displacement - fine.hinge_force / stiffness
+    if hinged.hinge_displacement is None:
+        hinge_d = hinge_f = hinge_set = math.inf
+    else:
+        hinge_d, hinge_f = float(hinged.hinge_displacement), float(hinged.hinge_force)
+        hinge_set = hinge_d - hinge_f / stiffness
     avg = full.averaged_plastic_strain
     if avg.max() >= bearing.rupture_strain:
         k = int(np.flatnonzero(avg >= bearing.rupture_strain)[0])
@@ -134,8 +140,8 @@ def rim_law_from_push(bearing: DFPBearing, stiffness: float, fine, full) -> RimL
         rupture_d = rupture_set = math.inf
     return RimLaw(
         stiffness=float(stiffness), plastic_set=sets[keep], force=forces[keep],
-        first_yield_force=float(f0), hinge_displacement=float(fine.hinge_displacement),
-        hinge_force=float(fine.hinge_force), hinge_set=float(hinge_set),
+        first_yield_force=float(f0), hinge_displacement=hinge_d, hinge_force=hinge_f,
+        hinge_set=float(hinge_set),
         rupture_displacement=rupture_d, rupture_set=float(rupture_set),
         lever=LEVER_FRACTION * bearing.rim_height, push_displacement=d, push_force=f,
     )

@@ -273,11 +273,15 @@ def test_any_record_sampling_keeps_the_energy_balance(heavy, dt):
 def test_instability_is_reported_not_hidden(heavy):
     """A step past the stability limit must not pass silently as a physical result."""
     _t, a = ricker_record(0.8 * G, 3.0, dt=0.005)
-    with pytest.raises(NumericalInstabilityError, match="internal step"):
+    with pytest.raises(NumericalInstabilityError, match="internal step") as raised:
         simulate(heavy, a, 0.005, max_step=1e-4)
     with pytest.warns(RuntimeWarning):
         reported = simulate(heavy, a, 0.005, max_step=1e-4, on_instability="report")
     assert reported.numerical_failure and not reported.failed
+    # the error carries the run as far as it went: the reported one
+    partial = raised.value.result
+    assert partial.numerical_failure and partial.failure_time == reported.failure_time
+    np.testing.assert_array_equal(partial.displacement, reported.displacement)
     refined = simulate(heavy, a, 0.005, max_step=1e-4, on_instability="refine")
     assert not refined.numerical_failure and refined.internal_step <= 2.5e-5
 

@@ -50,7 +50,7 @@ FIELDS: dict[str, Field] = {
     "capacity": Field("m", 1, 0.02, 1.5, "assumed", "travel on one surface until the slider "
                       "touches the rim (the bearing's displacement capacity is twice this)"),
     "rim_height": Field("m", 1, 0.005, 0.2, "assumed", "rim height above the dish"),
-    "rim_thickness": Field("m", 1, 0.005, 0.2, "assumed", "rim radial thickness"),
+    "rim_thickness": Field("m", 1, 0.005, 0.5, "assumed", "rim radial thickness"),
     "contact_stiffness": Field("N/m^1.5", 1, 1e8, 1e13, "assumed",
                                "Hertz stiffness k of every contact (paper Eqs. 1-2)"),
     "restitution": Field("-", 1, 0, 1, "paper", "coefficient of restitution e (paper Eq. 4)",

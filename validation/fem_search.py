@@ -291,7 +291,7 @@ class FESearches:
     kind = "fem-run"
 
     def __init__(self, settings: FESettings, *, step: float, start: float, stop: float,
-                 runner=fem_run, models=("rigid", "collapse", "fem", "fem-run"),
+                 runner=fem_run, models=("rigid", "trimming", "fem", "fem-run"),
                  stored=None):
         self.step, self.start = float(step), float(start)
         self.stored = stored

@@ -151,7 +151,9 @@ def critical_from_json(d):
     d = dict(d)
     if "failure_criterion" in d:  # stored before the rename to limit_state
         d["limit_state"] = d.pop("failure_criterion")
-    return CriticalSA(**{**d, "rungs": tuple(Rung(**r) for r in d["rungs"])})
+    rungs = tuple(Rung(**{**r, "limit_states": tuple(r.get("limit_states", ()))})
+                  for r in d["rungs"])
+    return CriticalSA(**{**d, "rungs": rungs})
 
 
 def predicted_from_json(d):

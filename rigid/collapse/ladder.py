@@ -63,6 +63,11 @@ class Rung:
         Largest |relative velocity| at a rim impact (0 without impact).
     max_uplift : float [m]
         Largest separation of a slider face from its dish.
+    failure_mode : {"uplift", "yielding", None}
+        How the rung failed (:attr:`rigid.SimulationResult.failure_mode`).
+    limit_states : tuple of str
+        The yielding rims' limit states ("hinge", "rupture") the run reached before it ended
+        (empty with rigid rims).
     """
 
     index: int
@@ -74,6 +79,8 @@ class Rung:
     impacts: int
     max_impact_velocity: float
     max_uplift: float
+    failure_mode: str | None = None
+    limit_states: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -274,9 +281,12 @@ def _run_rung(bearing, acc, dt, scale, sim) -> dict:
     try:
         r = simulate(bearing, acc * scale, dt, duration=duration, stop_at_failure=True,
                      stop_when_quiet=True, record_every=max(1, acc.size), **sim)
-    except NumericalInstabilityError:
+    except NumericalInstabilityError as error:  # the limit states reached before it count
+        reached = [] if error.result is None else [
+            s for s, t in error.result.limit_states.items() if t is not None]
         return {"failed": False, "numerical_failure": True, "failure_time": None,
-                "impacts": 0, "max_impact_velocity": float("nan"), "max_uplift": float("nan")}
+                "impacts": 0, "max_impact_velocity": float("nan"), "max_uplift": float("nan"),
+                "failure_mode": None, "limit_states": reached}
     return {
         "failed": bool(r.failed),
         "numerical_failure": bool(r.numerical_failure),
@@ -284,6 +294,8 @@ def _run_rung(bearing, acc, dt, scale, sim) -> dict:
         "impacts": len(r.impacts),
         "max_impact_velocity": float(r.max_impact_velocity),
         "max_uplift": float(r.max_uplift),
+        "failure_mode": r.failure_mode,
+        "limit_states": [s for s, t in r.limit_states.items() if t is not None],
     }
 
 
@@ -322,11 +334,12 @@ class _Rungs:
             sa = self.start + j * self.step
             scale = sa / self.record_sa  # Eq. C2
             out = self.store.get(j)
-            if out is None:
+            if out is None or "limit_states" not in out:  # not stored, or stored without the mode
                 t0 = time.process_time()
                 out = _run_rung(self.bearing, self.acc, self.dt, scale, self.sim)
                 self.cpu_seconds += time.process_time() - t0
                 self.store.put(j, out)
+            out = {**out, "limit_states": tuple(out["limit_states"])}
             self.done[j] = Rung(index=j, sa=sa, scale=scale, **out)
         return self.done[j]
 

@@ -38,6 +38,8 @@ MODEL_CODE = {
     "motions": ("rigid/motions",),
     # ladders, predictions, trimming
     "collapse": ("rigid/collapse",),
+    # the trimming of scaled records alone (what an FE run of the validation uses of it)
+    "trimming": ("rigid/collapse/trimming.py",),
     # the FE companion and its geometry (not its 3-D rim pushes, fem/ring: below)
     "fem": ("fem", "meshes"),
     # the 3-D static pushes of the rim as a ring
@@ -46,6 +48,8 @@ MODEL_CODE = {
     "fem-run": ("validation/fem_runs.py",),
     # one FE run of a Ricker pulse (the yielding-rims study)
     "fem-pulse-run": ("validation/studies/pulse_fe_runs.py",),
+    # one case of the rim design space: a record with rigid and yielding rims
+    "rim-design-case": ("validation/studies/rim_design_case.py",),
 }
 
 
@@ -65,7 +69,7 @@ def _files(entry: str) -> list[Path]:
     path = ROOT / entry
     if path.is_dir():
         own = [ROOT / e for codes in MODEL_CODE.values() for e in codes
-               if e != entry and (ROOT / e).is_relative_to(path)]
+               if e != entry and (ROOT / e).is_dir() and (ROOT / e).is_relative_to(path)]
         return sorted(p for p in path.rglob("*") if p.suffix in (".py", ".geo")
                       and not any(p.is_relative_to(o) for o in own))
     return [path]

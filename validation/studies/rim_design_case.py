@@ -1,0 +1,85 @@
+"""One case of the rim design space (``validation.studies.rim_design``): a record, a bearing
+and a rim, run with rigid and with yielding rims. Its code is part of the stored cases' key
+(``rim-design-case`` in :data:`rigid.tasks.cache.MODEL_CODE`)."""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+
+import rigid
+from rigid import DFPBearing, G
+from rigid.collapse.limit_state_ladder import critical_sa_by_limit_state, failure_mode
+
+#: The code a stored case depends on (:func:`rigid.tasks.task_key`).
+CASE_CODE = ("rigid", "rim-law", "collapse", "motions", "rim-design-case")
+#: Governing modes, in the order a rising SA meets them (see :func:`governing_mode`).
+MODES = ("hinge", "rupture", "containment", "uplift", "none")
+
+
+def _g(sa):
+    return None if sa is None else round(sa / G, 4)
+
+
+def design_case(bearing: DFPBearing, motion, rim_law, stop: float, cache) -> dict:
+    """One record, bearing and rim: critical SA [g] with rigid rims, with yielding rims per
+    limit state and how each fails, and the first touch [g]."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        t0 = time.process_time()
+        rigid_rims = rigid.critical_sa(bearing, motion, search="fast", stop=stop, cache=cache)
+        yielding = critical_sa_by_limit_state(bearing, motion, rim_law, stop=stop, cache=cache)
+        lowest = min((c.sa for c in yielding.values() if c.sa is not None), default=stop)
+        touch, numerical = first_touch(bearing, motion, max(1, round(lowest / (0.01 * G))))
+    row = {"rigid_sa_g": _g(rigid_rims.sa), "rigid_uncertain": rigid_rims.uncertain,
+           "first_touch_sa_g": touch / 100, "first_touch_numerical": numerical}
+    for state, c in yielding.items():
+        row[f"{state}_sa_g"] = _g(c.sa)
+        row[f"{state}_mode"] = failure_mode(c)
+        row[f"{state}_uncertain"] = c.uncertain
+    row["governing_mode"] = governing_mode(yielding)
+    row["cpu_s"] = round(time.process_time() - t0, 2)
+    return row
+
+
+def first_touch(bearing: DFPBearing, motion, start: int) -> tuple[int, bool]:
+    """(k, numerical): the lowest rung k (SA(Tb) = k × 0.01 g) at which the rigid-rim model
+    touches a rim, searched down from ``start`` while it touches, else up until it does (the
+    impact boundary is smooth in SA: docs/impact_spectra.md); ``numerical``: a rung on the way
+    went unstable, counted as a touch (instabilities start at contacts)."""
+    a = np.asarray(motion.acceleration)
+    per_sa = rigid.scale_factor(a, motion.dt, 1.0, period=bearing.design_period)
+    unstable = False
+
+    def touches(k):
+        nonlocal unstable
+        r = rigid.simulate(bearing, a * (k * 0.01 * G * per_sa), motion.dt,
+                           duration=(a.size - 1) * motion.dt + 20.0, stop_at_failure=True,
+                           stop_when_quiet=True, record_every=a.size, on_instability="report")
+        unstable |= bool(r.numerical_failure)
+        return bool(r.impacts) or bool(r.numerical_failure)
+
+    k = start
+    if not touches(k):
+        while not touches(k + 1):
+            k += 1
+        return k + 1, unstable
+    while k > 1 and touches(k - 1):
+        k -= 1
+    return k, unstable
+
+
+def governing_mode(yielding: dict) -> str:
+    """What a rising SA meets first with yielding rims: the rim's hinge, its rupture, the loss
+    of containment through the rim, or uplift over it ("none": nothing up to the top)."""
+    found = [c for c in yielding.values() if c.sa is not None]
+    if not found:
+        return "none"
+    first = min(found, key=lambda c: c.sa)
+    rung = next(r for r in first.rungs if r.sa == first.sa)
+    for state in ("hinge", "rupture"):
+        if state in rung.limit_states:
+            return state
+    return "containment" if rung.failure_mode == "yielding" else "uplift"
