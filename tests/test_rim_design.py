@@ -1,0 +1,100 @@
+"""The rim design space's bookkeeping (validation/studies/rim_design*.py): what fails first,
+the map's shares and the design chart's percentiles, on hand-made rungs and rows whose
+answers are known; and the FE table's statistics against a hand count."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rigid import G
+from rigid.collapse.ladder import CriticalSA, Rung
+from validation.studies.rim_design import design_chart, mode_map
+from validation.studies.rim_design_case import governing_mode
+from validation.studies.rim_design_fem import statistics_rows
+
+
+def _rung(j, *, failed=False, mode=None, states=()):
+    return Rung(index=j, sa=j * 0.01 * G, scale=1.0, failed=failed, numerical_failure=False,
+                failure_time=None, impacts=1, max_impact_velocity=0.3, max_uplift=0.0,
+                failure_mode=mode, limit_states=tuple(states))
+
+
+def _ladders(rungs, answers):
+    """{limit state: CriticalSA} over the same rungs, ``answers`` the critical rung of each."""
+    return {state: CriticalSA(sa=None if j is None else j * 0.01 * G, scale=None, name="r",
+                              record_sa=G, period=4.5, start=0.01 * G, step=0.01 * G,
+                              stop=3 * G, search="fast", rungs=tuple(rungs), rims="yielding",
+                              limit_state=state)
+            for state, j in answers.items()}
+
+
+@pytest.mark.parametrize(("rungs", "answers", "expected"), [
+    # the rim hinges at rung 20, ruptures at 25, lets the slider through at 30
+    ([_rung(20, states=("hinge",)), _rung(25, states=("hinge", "rupture")),
+      _rung(30, failed=True, mode="yielding", states=("hinge", "rupture", "containment"))],
+     {"hinge": 20, "rupture": 25, "containment": 30}, "hinge"),
+    # a squat rim: no hinge; it ruptures first
+    ([_rung(25, states=("rupture",)),
+      _rung(30, failed=True, mode="yielding", states=("rupture", "containment"))],
+     {"hinge": 30, "rupture": 25, "containment": 30}, "rupture"),
+    # the slider climbs over a rim that has not yielded
+    ([_rung(40, failed=True, mode="uplift", states=("containment",))],
+     {"hinge": 40, "rupture": 40, "containment": 40}, "uplift"),
+    # nothing up to the top
+    ([_rung(300)], {"hinge": None, "rupture": None, "containment": None}, "none"),
+])
+def test_what_fails_first(rungs, answers, expected):
+    assert governing_mode(_ladders(rungs, answers)) == expected
+
+
+def _row(t, p, mode, hinge):
+    return {"rim_thickness_mm": t, "pressure_mpa": p, "governing_mode": mode,
+            "hinge_sa_g": hinge, "rupture_sa_g": hinge, "containment_sa_g": hinge,
+            "hinge_mode": "rim", "rupture_mode": "rim", "containment_mode": "uplift",
+            "hinge_uncertain": False, "rupture_uncertain": False,
+            "containment_uncertain": hinge is None, "rigid_sa_g": 1.0,
+            "rigid_uncertain": False, "first_touch_sa_g": 0.2}
+
+
+def test_the_map_counts_shares_per_thickness_and_pressure():
+    rows = [_row(40, 60, "hinge", 0.2)] * 3 + [_row(40, 60, "uplift", 0.5)]
+    (cell,) = mode_map(rows)
+    assert cell["records"] == 4 and cell["share_hinge"] == 0.75 and cell["share_uplift"] == 0.25
+    assert sum(cell[f"share_{m}"] for m in ("hinge", "rupture", "containment", "uplift",
+                                            "none")) == pytest.approx(1.0)
+
+
+def test_the_chart_percentiles_count_a_case_without_failure_as_above_the_top():
+    # 10 records: 0.1 … 0.9 g and one without failure; the median is the 5th value (inverted
+    # CDF: no interpolation), the 84th percentile the 9th, and the 16th the 2nd
+    rows = [_row(80, 10, "hinge", round(0.1 * k, 1)) for k in range(1, 10)]
+    rows.append(_row(80, 10, "none", None))
+    chart = {r["model"]: r for r in design_chart(rows)}
+    hinge = chart["yielding_hinge"]
+    assert (hinge["p16_g"], hinge["median_g"], hinge["p84_g"]) == (0.2, 0.5, 0.9)
+    assert hinge["no_failure"] == 1 and hinge["records"] == 10
+    rows.append(_row(80, 10, "none", None))  # 2 of 11 without failure: the 84th is above
+    chart = {r["model"]: r for r in design_chart(rows)}
+    assert math.isinf(chart["yielding_hinge"]["p84_g"])
+    # the containment of the two is numerical (uncertain): unknown, not above the top
+    assert chart["yielding_containment"]["unknown"] == 2
+    assert chart["yielding_containment"]["no_failure"] == 0
+    assert chart["yielding_containment"]["p84_g"] == 0.8  # the 8th of the 9 known
+
+
+def test_fem_statistics_count_the_discriminating_cases_apart():
+    def case(fe, yielding, touch):
+        return {"rim_thickness_mm": 160.0, "limit_state": "hinge", "fem_sa_g": str(fe),
+                "yielding_sa_g": str(yielding), "first_touch_sa_g": touch,
+                "fem_over_first_touch": fe / touch}
+
+    rows = [case(0.20, 0.20, 0.20),   # not discriminating (FE = first touch)
+            case(0.40, 0.38, 0.20),   # discriminating; yielding within 20 %, touch not
+            case(0.30, 0.20, 0.22)]   # discriminating; neither within 20 %
+    stats = {s["cases"]: s for s in statistics_rows(rows)}
+    assert stats["all"]["n"] == 3 and stats["discriminating"]["n"] == 2
+    d = stats["discriminating"]
+    assert d["yielding_within_20"] == 0.5 and d["first_touch_within_20"] == 0.0
+    assert d["median_fem_over_yielding"] == pytest.approx((0.40 / 0.38 + 0.30 / 0.20) / 2)
