@@ -41,7 +41,7 @@ from rigid.limit_states import LIMIT_STATES
 from rigid.tasks import ResultStore, Task, cache_root, run_tasks, task_key
 
 from . import DOCS
-from .rim_design_case import CASE_CODE, MODES, design_case
+from .rim_design_case import CASE_CODE, MODES, rigid_case, yielding_case
 
 OUT = DOCS / "rim-design"
 #: Rim thicknesses [mm]: the issue's seven, from a rim that hinges at once to one the slider
@@ -54,30 +54,42 @@ STOP = 3.0 * G
 
 def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, cache,
           rim_height: float = DFPBearing.rim_height):
-    """The stored tasks of the study, one per thickness × pressure × record, and what each is
-    (thickness [mm], pressure [MPa], record name)."""
-    out, what = [], []
+    """The stored tasks of the study and what each is: one with rigid rims per pressure ×
+    record (at the baseline's thickness: the rigid-rim model does not see it, :func:`
+    rim_design_case.rigid_case`), one with yielding rims per thickness × pressure × record;
+    ``what`` maps a task's key to ("rigid", pressure [MPa], record) or ("yielding", thickness
+    [mm], pressure, record)."""
+    out, what = [], {}
+
+    def add(kind, func, args, label):
+        inputs = {k: v for k, v in args.items() if k not in ("motion", "cache")}
+        key = task_key(kind, CASE_CODE, **inputs, motion=args["motion"].acceleration,
+                       dt=args["motion"].dt)
+        out.append(Task(key, kind, func, {**args, "cache": cache}, leads=False))
+        what[key] = label
+
+    for p in pressures_mpa:
+        bearing = DFPBearing(pressure=p * 1e6, rim_height=rim_height)
+        for m in motions:
+            add("rim-design-rigid", rigid_case, {"bearing": bearing, "motion": m, "stop": stop},
+                ("rigid", p, m.name))
     for t in thicknesses_mm:
         for p in pressures_mpa:
             bearing = DFPBearing(pressure=p * 1e6, rim_thickness=t * 1e-3,
                                  rim_height=rim_height)
             law = fem.rim_law(bearing, model=rim_model)
             for m in motions:
-                inputs = {"bearing": bearing, "motion": m.acceleration, "dt": m.dt,
-                          "rim_law": law, "stop": stop}
-                key = task_key("rim-design-case", CASE_CODE, **inputs)
-                out.append(Task(key, "rim-design-case", design_case,
-                                {"bearing": bearing, "motion": m, "rim_law": law,
-                                 "stop": stop, "cache": cache},
-                                leads=False))
-                what.append((t, p, m.name))
+                add("rim-design-yielding", yielding_case,
+                    {"bearing": bearing, "motion": m, "rim_law": law, "stop": stop},
+                    ("yielding", t, p, m.name))
     return out, what
 
 
 def cases(thicknesses_mm, pressures_mpa, out: Path, *, rim_model="plane-strain",
           workers=2, records=None, cache=None,
           rim_height: float = DFPBearing.rim_height) -> list[dict]:
-    """Run (or read) every case; one row each (``rim_height`` [m])."""
+    """Run (or read) every case; one row per thickness × pressure × record (``rim_height``
+    [m])."""
     motions = rigid.fema_p695("nearfield_pulse")[:records]
     cache = cache_root() / "ladders" if cache is None else cache
     todo, what = tasks(thicknesses_mm, pressures_mpa, motions, rim_model, STOP, cache,
@@ -87,9 +99,11 @@ def cases(thicknesses_mm, pressures_mpa, out: Path, *, rim_model="plane-strain",
         results = run_tasks(todo, store, workers=workers, description="rim design cases",
                             unit="case", start_method=pool_context().get_start_method(),
                             log=out / "store" / "progress.log")
+    rigid_rims = {label[1:]: results[key] for key, label in what.items() if label[0] == "rigid"}
     return [{"rim_thickness_mm": t, "rim_height_mm": rim_height * 1e3, "pressure_mpa": p,
-             "record": name, "rim_model": rim_model,
-             **results[task.key]} for task, (t, p, name) in zip(todo, what, strict=True)]
+             "record": name, "rim_model": rim_model, **rigid_rims[p, name], **results[key]}
+            for key, (kind, *label) in what.items() if kind == "yielding"
+            for t, p, name in [label]]
 
 
 def capacity_rows(thicknesses_mm, rim_height: float, rim_model: str) -> list[dict]:
@@ -214,7 +228,8 @@ def main(argv=None) -> None:
     from .rim_design_figures import draw
 
     draw(args.out)
-    cpu = sum(r["cpu_s"] for r in rows)
+    cpu = sum(r["yielding_cpu_s"] for r in rows) + sum(
+        {(r["pressure_mpa"], r["record"]): r["rigid_cpu_s"] for r in rows}.values())
     print(f"{len(rows)} cases in {wall:.0f} s wall ({cpu:.0f} s CPU of the cases computed "
           f"now or before); {args.out}")
 

@@ -1,6 +1,7 @@
-"""One case of the rim design space (``validation.studies.rim_design``): a record, a bearing
-and a rim, run with rigid and with yielding rims. Its code is part of the stored cases' key
-(``rim-design-case`` in :data:`rigid.tasks.cache.MODEL_CODE`)."""
+"""The cases of the rim design space (``validation.studies.rim_design``): a record and a
+bearing with rigid rims (:func:`rigid_case`), and with yielding rims of one geometry
+(:func:`yielding_case`). Its code is part of the stored cases' key (``rim-design-case`` in
+:data:`rigid.tasks.cache.MODEL_CODE`)."""
 
 from __future__ import annotations
 
@@ -23,24 +24,36 @@ def _g(sa):
     return None if sa is None else round(sa / G, 4)
 
 
-def design_case(bearing: DFPBearing, motion, rim_law, stop: float, cache) -> dict:
-    """One record, bearing and rim: critical SA [g] with rigid rims, with yielding rims per
-    limit state and how each fails, and the first touch [g]."""
+def rigid_case(bearing: DFPBearing, motion, stop: float, cache) -> dict:
+    """One record and bearing with rigid rims: critical SA [g] and the first touch [g]. The
+    rigid-rim model sees a rim's thickness only where a corner sinks deeper than it into the
+    rim (a numerical stop), so this is run once per record, pressure and rim height."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         t0 = time.process_time()
-        rigid_rims = rigid.critical_sa(bearing, motion, search="fast", stop=stop, cache=cache)
+        ladder = rigid.critical_sa(bearing, motion, search="fast", stop=stop, cache=cache)
+        touched = [r.sa for r in ladder.rungs if r.impacts or r.failed]
+        start = round(min(touched, default=stop) / (0.01 * G))
+        touch, numerical = first_touch(bearing, motion, max(1, start))
+    return {"rigid_sa_g": _g(ladder.sa), "rigid_uncertain": ladder.uncertain,
+            "first_touch_sa_g": touch / 100, "first_touch_numerical": numerical,
+            "rigid_cpu_s": round(time.process_time() - t0, 2)}
+
+
+def yielding_case(bearing: DFPBearing, motion, rim_law, stop: float, cache) -> dict:
+    """One record, bearing and rim with yielding rims: critical SA [g] per limit state, how
+    each fails, and what fails first."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        t0 = time.process_time()
         yielding = critical_sa_by_limit_state(bearing, motion, rim_law, stop=stop, cache=cache)
-        lowest = min((c.sa for c in yielding.values() if c.sa is not None), default=stop)
-        touch, numerical = first_touch(bearing, motion, max(1, round(lowest / (0.01 * G))))
-    row = {"rigid_sa_g": _g(rigid_rims.sa), "rigid_uncertain": rigid_rims.uncertain,
-           "first_touch_sa_g": touch / 100, "first_touch_numerical": numerical}
+    row = {}
     for state, c in yielding.items():
         row[f"{state}_sa_g"] = _g(c.sa)
         row[f"{state}_mode"] = failure_mode(c)
         row[f"{state}_uncertain"] = c.uncertain
     row["governing_mode"] = governing_mode(yielding)
-    row["cpu_s"] = round(time.process_time() - t0, 2)
+    row["yielding_cpu_s"] = round(time.process_time() - t0, 2)
     return row
 
 

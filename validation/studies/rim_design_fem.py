@@ -11,7 +11,8 @@ rim). Writes to ``docs/rim-design/``:
   ``rim_thickness_mm``, ``first_touch_sa_g`` and ``fem_over_first_touch``;
 - ``fem_statistics.csv``: per thickness and limit state, over all cases and over the
   discriminating ones (FE and first touch more than 10 % apart): the medians of FE/yielding
-  and FE/first touch and the shares within ±20 % and ±35 %.
+  and FE/first touch, the shares within ±20 % and ±35 %, and how many FE answers are
+  uncertain (their search met a numerical run below the answer).
 
 Run: ``python -m validation.studies.rim_design_fem``.
 """
@@ -93,6 +94,7 @@ def statistics_rows(rows: list[dict]) -> list[dict]:
             out.append({
                 "rim_thickness_mm": t, "limit_state": state, "cases": subset,
                 "n": len(some), "of": len(group),
+                "fem_uncertain": sum(str(r.get("uncertain")) == "True" for r in some),
                 "median_fem_over_yielding": statistics.median(y) if y else math.nan,
                 "median_fem_over_first_touch": statistics.median(f) if f else math.nan,
                 "yielding_within_20": _share(y, 0.20), "first_touch_within_20": _share(f, 0.20),
