@@ -12,6 +12,7 @@ from .fragility import (
     set_collapse_intensity,
 )
 from .ladder import CriticalSA, Rung, critical_sa
+from .limit_state_ladder import critical_sa_by_limit_state
 from .predict import PredictedSA, PredictionRung, predict_critical_sa, pulse_region
 from .record_set import critical_sas
 from .trimming import critical_sa_trimmed, trimmed_outcome, trimmed_window
@@ -26,6 +27,7 @@ __all__ = [
     "collapse_margin",
     "comparison_rows",
     "critical_sa",
+    "critical_sa_by_limit_state",
     "critical_sa_trimmed",
     "critical_sas",
     "fit_lognormal",

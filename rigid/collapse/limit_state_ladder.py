@@ -9,8 +9,8 @@ state; Eq. R62 of docs/theory/rigid-body.md). The search of each limit state is 
 own (full, or coarse-then-fine, Eq. C4 of docs/theory/collapse.md) over the shared rungs, so
 the three answers cost about as much as the containment ladder alone. A run to containment is
 the same run as one stopped at the hinge up to the moment of the hinge (the limit state only
-says when to stop), which tests/test_limit_state_ladder.py checks against
-:func:`rigid.critical_sa` run per limit state.
+says when to stop), which tests/test_yielding_rims.py checks against :func:`rigid.critical_sa`
+run per limit state.
 """
 
 from __future__ import annotations
