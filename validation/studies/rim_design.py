@@ -4,7 +4,8 @@ near-field pulse component against rim thickness, with rigid and with yielding r
 For each rim thickness (``--thicknesses``, mm) and pressure (``--pressures``, MPa) and each of
 the 28 components of FEMA P695's near-field pulse set:
 
-- the rigid-rim ladder (the paper's model; loss of containment, always by uplift);
+- the rigid-rim ladder (the paper's model; loss of containment, always by uplift), once per
+  record and pressure (the rigid-rim model does not see the rim's thickness);
 - the yielding-rim ladders at the hinge, the rupture and the loss of containment, from one
   set of rungs run to containment (:func:`rigid.collapse.critical_sa_by_limit_state`), the
   rims' law from the FE push of that rim (``fem.rim_law``, cached per geometry; ``--rim-model
@@ -55,8 +56,9 @@ STOP = 3.0 * G
 def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, cache,
           rim_height: float = DFPBearing.rim_height):
     """The stored tasks of the study and what each is: one with rigid rims per pressure ×
-    record (at the baseline's thickness: the rigid-rim model does not see it, :func:`
-    rim_design_case.rigid_case`), one with yielding rims per thickness × pressure × record;
+    record (at the baseline's thickness: the rigid-rim model does not see it;
+    :func:`.rim_design_case.rigid_case`), one with yielding rims per thickness × pressure ×
+    record;
     ``what`` maps a task's key to ("rigid", pressure [MPa], record) or ("yielding", thickness
     [mm], pressure, record)."""
     out, what = [], {}
