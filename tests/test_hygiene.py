@@ -94,9 +94,12 @@ sys.exit(cli.main(["simulate", "--out", sys.argv[1]]))
                                             (signal.SIGINT, cli.EXIT_INTERRUPTED)])
 def test_lock_is_removed_when_terminated_or_interrupted(tmp_path, signum, status):
     out = tmp_path / "o"
+    # a shell's background job ignores SIGINT, and Python then installs no Ctrl-C handler:
+    # the child gets the default disposition, as a command run at a terminal has
     child = subprocess.Popen([sys.executable, "-c", _SLOW_COMMAND, str(out)],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                             env={**os.environ, "PYTHONPATH": str(ROOT)})
+                             env={**os.environ, "PYTHONPATH": str(ROOT)},
+                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert child.stdout.readline().strip() == "locked"
         assert (out / ".dfp.lock").exists()
