@@ -319,15 +319,30 @@ def _rung_options(bearing, rims, limit_state, rim_law, *, max_step, impact_merge
 
 
 class _Rungs:
-    """The rungs of one ladder, each run once (or read from the store) when first asked for:
-    ``rungs(j)`` is rung j, a :class:`Rung`; ``done`` maps the rungs so far;
-    ``cpu_seconds`` [s] is the processor time spent simulating them here."""
+    """The rungs of one ladder (:func:`_ladder`), each run once (or read from the store) when
+    first asked for: ``rungs(j)`` is rung j, a :class:`Rung`; ``done`` maps the rungs so far;
+    ``cpu_seconds`` [s] is the processor time spent simulating them here; ``n_rungs`` rungs
+    in all, ``capped`` below the top asked for."""
 
-    def __init__(self, bearing, acc, dt, start, step, record_sa, sim, store):
+    def __init__(self, bearing, acc, dt, name, period, start, step, record_sa, n_rungs, capped,
+                 sim, store):
         self.bearing, self.acc, self.dt, self.sim, self.store = bearing, acc, dt, sim, store
+        self.name, self.period, self.n_rungs, self.capped = name, period, n_rungs, capped
         self.start, self.step, self.record_sa = start, step, record_sa
         self.done: dict[int, Rung] = {}
         self.cpu_seconds = 0.0
+
+    def critical(self, first: int | None, search: str, limit_state: str) -> CriticalSA:
+        """The :class:`CriticalSA` whose first failing rung is ``first`` (None: none), with
+        every rung run so far."""
+        return CriticalSA(
+            sa=None if first is None else self.done[first].sa,
+            scale=None if first is None else self.done[first].scale,
+            name=self.name, record_sa=self.record_sa, period=self.period, start=self.start,
+            step=float(self.step), stop=float(self.start + (self.n_rungs - 1) * self.step),
+            search=search, rungs=tuple(self.done[j] for j in sorted(self.done)),
+            cpu_seconds=self.cpu_seconds, capped=self.capped, rims=self.sim["rims"],
+            limit_state=limit_state)
 
     def __call__(self, j: int) -> Rung:
         if j not in self.done:
@@ -342,6 +357,33 @@ class _Rungs:
             out = {**out, "limit_states": tuple(out["limit_states"])}
             self.done[j] = Rung(index=j, sa=sa, scale=scale, **out)
         return self.done[j]
+
+
+def _ladder(bearing, motion, dt, *, start, step, stop, period, damping, free, cache, rims,
+            limit_state, rim_law, max_step, impact_merge_time, coarse_factor) -> _Rungs:
+    """The rungs of a ladder whose search ``start`` [m/s²] is checked
+    (:func:`check_ladder`): the record and ``free`` checked, the record's SA and the rungs
+    (capped below the models' limit), each rung's options (:func:`_rung_options`) and its
+    store (``cache``, as :func:`critical_sa`'s)."""
+    period = bearing.design_period if period is None else float(period)
+    acc, dt, name = as_record(motion, dt)
+    if acc.ndim != 1 or acc.size < 2 or not np.all(np.isfinite(acc)):
+        raise ValueError("the record must be a finite 1-D acceleration with at least 2 samples")
+
+    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
+    capped = n_rungs < math.floor((stop - start) / step + 1e-9) + 1
+
+    if not (math.isfinite(free) and free >= 0):
+        raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
+    sim = _rung_options(bearing, rims, check_limit_state(limit_state, rims=rims), rim_law,
+                        max_step=max_step, impact_merge_time=impact_merge_time,
+                        coarse_factor=coarse_factor, free=free)
+    cache_dir = cache_root() if cache is True else (None if cache is False else cache)
+    store = _Store(cache_dir, {"bearing": bearing, "acceleration": acc, "dt": dt,
+                               "start": start, "step": float(step), "period": period,
+                               "damping": float(damping), "simulate": sim})
+    return _Rungs(bearing, acc, dt, name, period, start, step, record_sa, n_rungs, capped, sim,
+                  store)
 
 
 @renamed_limit_state()
@@ -429,25 +471,11 @@ def critical_sa(
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, start, stop)
     if int(after_failure) != after_failure or after_failure < 0:
         raise ValueError(f"after_failure must be a non-negative integer, got {after_failure!r}")
-    period = bearing.design_period if period is None else float(period)
-    acc, dt, name = as_record(motion, dt)
-    if acc.ndim != 1 or acc.size < 2 or not np.all(np.isfinite(acc)):
-        raise ValueError("the record must be a finite 1-D acceleration with at least 2 samples")
-
-    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
-    capped = n_rungs < math.floor((stop - start) / step + 1e-9) + 1
-
-    if not (math.isfinite(free) and free >= 0):
-        raise ValueError(f"free must be a non-negative number of seconds, got {free!r}")
-    sim = _rung_options(bearing, rims, check_limit_state(limit_state, rims=rims), rim_law,
-                        max_step=max_step, impact_merge_time=impact_merge_time,
-                        coarse_factor=coarse_factor, free=free)
-    cache_dir = cache_root() if cache is True else (None if cache is False else cache)
-    store = _Store(cache_dir, {"bearing": bearing, "acceleration": acc, "dt": dt,
-                               "start": start, "step": float(step), "period": period,
-                               "damping": float(damping), "simulate": sim})
-    rung = _Rungs(bearing, acc, dt, start, step, record_sa, sim, store)
-    done = rung.done
+    rung = _ladder(bearing, motion, dt, start=start, step=step, stop=stop, period=period,
+                   damping=damping, free=free, cache=cache, rims=rims, limit_state=limit_state,
+                   rim_law=rim_law, max_step=max_step, impact_merge_time=impact_merge_time,
+                   coarse_factor=coarse_factor)
+    done, n_rungs = rung.done, rung.n_rungs
 
     first = None
     if search == "full":
@@ -460,22 +488,4 @@ def critical_sa(
     if first is not None:
         for j in range(first + 1, min(first + 1 + int(after_failure), n_rungs)):
             rung(j)
-
-    rungs = tuple(done[j] for j in sorted(done))
-    limit_state = sim["limit_state"]
-    return CriticalSA(
-        sa=None if first is None else done[first].sa,
-        scale=None if first is None else done[first].scale,
-        name=name,
-        record_sa=record_sa,
-        period=period,
-        start=start,
-        step=float(step),
-        stop=float(start + (n_rungs - 1) * step),
-        search=search,
-        rungs=rungs,
-        cpu_seconds=rung.cpu_seconds,
-        capped=capped,
-        rims=rims,
-        limit_state=limit_state,
-    )
+    return rung.critical(first, search, rung.sim["limit_state"])

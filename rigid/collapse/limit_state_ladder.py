@@ -15,26 +15,13 @@ run per limit state.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..bearing import DFPBearing
 from ..limit_states import LIMIT_STATES, check_limit_states
-from ..tasks import cache_root
 from ..units import G
-from .ladder import (
-    _SEARCHES,
-    CriticalSA,
-    _rung_options,
-    _Rungs,
-    _Store,
-    as_record,
-    check_ladder,
-    record_ladder,
-)
+from .ladder import _SEARCHES, CriticalSA, _ladder, check_ladder
 from .search import fast_search
 
 __all__ = ["critical_sa_by_limit_state", "failure_mode"]
@@ -125,18 +112,11 @@ def critical_sa_by_limit_state(
     """
     start = check_ladder(bearing, search, _SEARCHES, step, coarse, None, stop)
     limit_states = check_limit_states(limit_states)
-    period = bearing.design_period if period is None else float(period)
-    acc, dt, name = as_record(motion, dt)
-    record_sa, n_rungs = record_ladder(acc, dt, period, damping, name, start, step, stop)
-    capped = n_rungs < math.floor((stop - start) / step + 1e-9) + 1
-    sim = _rung_options(bearing, "yielding", "containment", rim_law, max_step=max_step,
-                        impact_merge_time=impact_merge_time, coarse_factor=coarse_factor,
-                        free=free)
-    cache = cache_root() if cache is True else (None if cache is False else cache)
-    store = _Store(cache, {"bearing": bearing, "acceleration": np.asarray(acc), "dt": dt,
-                           "start": start, "step": float(step), "period": period,
-                           "damping": float(damping), "simulate": sim})
-    rung = _Rungs(bearing, acc, dt, start, step, record_sa, sim, store)
+    rung = _ladder(bearing, motion, dt, start=start, step=step, stop=stop, period=period,
+                   damping=damping, free=free, cache=cache, rims="yielding",
+                   limit_state="containment", rim_law=rim_law, max_step=max_step,
+                   impact_merge_time=impact_merge_time, coarse_factor=coarse_factor)
+    n_rungs = rung.n_rungs
 
     firsts = {}
     for state in limit_states:
@@ -150,11 +130,4 @@ def critical_sa_by_limit_state(
         else:
             firsts[state] = fast_search(seen, view, n_rungs, int(coarse), float(refine_ratio))
 
-    rungs = tuple(rung.done[j] for j in sorted(rung.done))
-    return {state: CriticalSA(
-        sa=None if first is None else rung.done[first].sa,
-        scale=None if first is None else rung.done[first].scale,
-        name=name, record_sa=record_sa, period=period, start=start, step=float(step),
-        stop=float(start + (n_rungs - 1) * step), search=search, rungs=rungs,
-        cpu_seconds=rung.cpu_seconds, capped=capped, rims="yielding", limit_state=state)
-        for state, first in firsts.items()}
+    return {state: rung.critical(first, search, state) for state, first in firsts.items()}

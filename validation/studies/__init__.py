@@ -9,6 +9,8 @@ extra (``pip install -e ".[studies]"``). Every path they read or write by defaul
 here.
 """
 
+import csv
+import math
 from pathlib import Path
 
 #: The repository's root (the checkout the studies run from).
@@ -19,3 +21,17 @@ RESULTS = DOCS / "results"
 IMAGES = DOCS / "images"
 #: The FE validation runs' folder (its store, comparison table and report).
 FEM_VALIDATION = DOCS / "fem-validation"
+
+
+def read_csv(path: Path) -> list[dict]:
+    """The rows of a CSV table the studies wrote, as dicts of text."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def number(text) -> float:
+    """A table's cell as a float; NaN for an empty or missing one."""
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan

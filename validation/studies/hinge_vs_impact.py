@@ -25,31 +25,37 @@ from . import FEM_VALIDATION, RESULTS
 FREE = 20.0   # s simulated after the record, as the ladders
 
 
+def lowest_rung(holds, start: int) -> int:
+    """The lowest rung k ≥ 1 at which ``holds(k)`` is true (a rim impact), searched from
+    ``start``: down while it still holds, else up until it does (the impact boundary is smooth
+    in SA: docs/impact_spectra.md)."""
+    k = start
+    if not holds(k):
+        k += 1
+        while not holds(k):
+            k += 1
+        return k
+    while k > 1 and holds(k - 1):
+        k -= 1
+    return k
+
+
 def first_impact_rung(bearing, motion, start: int) -> tuple[int, float]:
     """(k, v): the lowest rung k (SA(Tb) = k × 0.01 g) with a rim impact, searched from
-    ``start``, and its largest impact velocity [m/s]."""
+    ``start`` (:func:`lowest_rung`), and its largest impact velocity [m/s]."""
     a = np.asarray(motion.acceleration)
     per_sa = scale_factor(a, motion.dt, 1.0, period=bearing.design_period)  # PSA is linear
+    velocity = {}
 
     def impact_velocity(k):  # 0 without impact
         r = simulate(bearing, a * (k * 0.01 * G * per_sa), motion.dt,
                      duration=(a.size - 1) * motion.dt + FREE, stop_at_failure=True,
                      stop_when_quiet=True, record_every=a.size, on_instability="refine")
-        return float(r.max_impact_velocity) if len(r.impacts) else 0.0
+        velocity[k] = float(r.max_impact_velocity) if len(r.impacts) else 0.0
+        return velocity[k]
 
-    k = start
-    v = impact_velocity(k)
-    if v == 0.0:
-        while v == 0.0:
-            k += 1
-            v = impact_velocity(k)
-        return k, v
-    while k > 1:
-        below = impact_velocity(k - 1)
-        if below == 0.0:
-            break
-        k, v = k - 1, below
-    return k, v
+    k = lowest_rung(lambda k: impact_velocity(k) > 0.0, start)
+    return k, velocity[k]
 
 
 def main() -> None:

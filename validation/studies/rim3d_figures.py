@@ -12,16 +12,11 @@ Run (seconds)::
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 from pathlib import Path
 
+from . import read_csv
 from .rim3d import FOLDER
-
-
-def _read(path: Path) -> list[dict]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
 
 
 def _float(x: str) -> float:
@@ -119,8 +114,8 @@ def main() -> None:
     ap.add_argument("--folder", default=str(FOLDER))
     args = ap.parse_args()
     folder = Path(args.folder)
-    pushes_figure(_read(folder / "curves.csv"), folder / "pushes.png")
-    depth_figure(_read(folder / "pushes.csv"), folder / "effective_depth.png")
+    pushes_figure(read_csv(folder / "curves.csv"), folder / "pushes.png")
+    depth_figure(read_csv(folder / "pushes.csv"), folder / "effective_depth.png")
     print(f"wrote {folder / 'pushes.png'} and {folder / 'effective_depth.png'}")
 
 

@@ -165,7 +165,7 @@ def design_chart(rows: list[dict]) -> list[dict]:
         columns |= {"rigid_rims": ("rigid_sa_g", "rigid_uncertain"),
                     "first_touch": ("first_touch_sa_g", None)}
         for model, (column, uncertain) in columns.items():
-            unknown = [r[column] is None and bool(uncertain and _true(r[uncertain]))
+            unknown = [r[column] is None and bool(uncertain and r[uncertain])
                        for r in group]
             v = np.array([math.inf if r[column] is None else r[column]
                           for r, u in zip(group, unknown, strict=True) if not u])
@@ -188,11 +188,6 @@ def _hinged(row) -> bool:
     hinge, lost = row["hinge_sa_g"], row["containment_sa_g"]
     return row["governing_mode"] == "hinge" or (
         hinge is not None and (lost is None or float(hinge) < float(lost)))
-
-
-def _true(value) -> bool:
-    """A stored or CSV boolean."""
-    return value is True or str(value) == "True"
 
 
 def _groups(rows):

@@ -14,6 +14,8 @@ import rigid
 from rigid import DFPBearing, G
 from rigid.collapse.limit_state_ladder import critical_sa_by_limit_state, failure_mode
 
+from .hinge_vs_impact import lowest_rung
+
 #: The code a stored case depends on (:func:`rigid.tasks.task_key`).
 CASE_CODE = ("rigid", "rim-law", "collapse", "motions", "rim-design-case")
 #: Governing modes, in the order a rising SA meets them (see :func:`governing_mode`).
@@ -59,9 +61,9 @@ def yielding_case(bearing: DFPBearing, motion, rim_law, stop: float, cache) -> d
 
 def first_touch(bearing: DFPBearing, motion, start: int) -> tuple[int, bool]:
     """(k, numerical): the lowest rung k (SA(Tb) = k × 0.01 g) at which the rigid-rim model
-    touches a rim, searched down from ``start`` while it touches, else up until it does (the
-    impact boundary is smooth in SA: docs/impact_spectra.md); ``numerical``: a rung on the way
-    went unstable, counted as a touch (instabilities start at contacts)."""
+    touches a rim, searched from ``start`` (:func:`.hinge_vs_impact.lowest_rung`);
+    ``numerical``: a rung on the way went unstable, counted as a touch (instabilities start
+    at contacts)."""
     a = np.asarray(motion.acceleration)
     per_sa = rigid.scale_factor(a, motion.dt, 1.0, period=bearing.design_period)
     unstable = False
@@ -74,14 +76,7 @@ def first_touch(bearing: DFPBearing, motion, start: int) -> tuple[int, bool]:
         unstable |= bool(r.numerical_failure)
         return bool(r.impacts) or bool(r.numerical_failure)
 
-    k = start
-    if not touches(k):
-        while not touches(k + 1):
-            k += 1
-        return k + 1, unstable
-    while k > 1 and touches(k - 1):
-        k -= 1
-    return k, unstable
+    return lowest_rung(touches, start), unstable
 
 
 def governing_mode(yielding: dict) -> str:

@@ -20,32 +20,19 @@ Run: ``python -m validation.studies.rim_design_fem``.
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import statistics
 from pathlib import Path
 
 from rigid.collapse.comparison import write_csv
 
-from . import DOCS
+from . import DOCS, number, read_csv
 from .rim_design import OUT
 
 #: The validation runs at the baseline's two earlier thicknesses [mm] → their folders.
 EARLIER = {40.0: DOCS / "fem-validation", 80.0: DOCS / "fem-validation-rims80"}
 #: FE and first touch further apart than this make a case discriminating.
 APART = 0.10
-
-
-def _read(path: Path) -> list[dict]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
-
-
-def _num(text) -> float:
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
 
 
 def runs(out: Path = OUT) -> dict[float, Path]:
@@ -60,12 +47,12 @@ def runs(out: Path = OUT) -> dict[float, Path]:
 def comparison(out: Path = OUT) -> list[dict]:
     """Every FE search of every thickness, with the first touch beside it."""
     touch = {(float(r["rim_thickness_mm"]), float(r["pressure_mpa"]), r["record"]):
-             _num(r["first_touch_sa_g"]) for r in _read(out / "cases.csv")}
+             number(r["first_touch_sa_g"]) for r in read_csv(out / "cases.csv")}
     rows = []
     for t, folder in runs(out).items():
-        for r in _read(folder / "fem_comparison.csv"):
+        for r in read_csv(folder / "fem_comparison.csv"):
             first = touch.get((t, float(r["pressure_mpa"]), r["record"]), math.nan)
-            fe = _num(r["fem_sa_g"])
+            fe = number(r["fem_sa_g"])
             rows.append({"rim_thickness_mm": t, **r, "first_touch_sa_g": first,
                          "fem_over_first_touch": fe / first if first > 0 else math.nan})
     return rows
@@ -83,13 +70,13 @@ def statistics_rows(rows: list[dict]) -> list[dict]:
         groups.setdefault((r["rim_thickness_mm"], r["limit_state"]), []).append(r)
     for (t, state), group in groups.items():
         for subset in ("all", "discriminating"):
-            some = [r for r in group if math.isfinite(_num(r["fem_sa_g"]))
-                    and math.isfinite(_num(r["yielding_sa_g"]))
+            some = [r for r in group if math.isfinite(number(r["fem_sa_g"]))
+                    and math.isfinite(number(r["yielding_sa_g"]))
                     and math.isfinite(r["first_touch_sa_g"])]
             if subset == "discriminating":
                 some = [r for r in some
                         if abs(r["fem_over_first_touch"] - 1) > APART]
-            y = [_num(r["fem_sa_g"]) / _num(r["yielding_sa_g"]) for r in some]
+            y = [number(r["fem_sa_g"]) / number(r["yielding_sa_g"]) for r in some]
             f = [r["fem_over_first_touch"] for r in some]
             out.append({
                 "rim_thickness_mm": t, "limit_state": state, "cases": subset,

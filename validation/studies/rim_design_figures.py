@@ -7,7 +7,6 @@ Run: ``python -m validation.studies.rim_design_figures [--out docs/rim-design]``
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 from pathlib import Path
 
@@ -17,6 +16,7 @@ import matplotlib.ticker
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from . import read_csv
 from .rim_design import OUT
 from .rim_design_case import MODES
 
@@ -32,15 +32,10 @@ CHARTS = {"yielding_hinge": ("yielding rims, hinge", "#f0a830"),
           "first_touch": ("first touch of a rim", "#777777")}
 
 
-def _read(path: Path) -> list[dict]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
-
-
 def draw_map(out: Path) -> Path:
     """``failure_mode_map.png``: per pressure, the share of records by governing mode against
     rim thickness (stacked bars)."""
-    rows = _read(out / "failure_mode_map.csv")
+    rows = read_csv(out / "failure_mode_map.csv")
     pressures = sorted({float(r["pressure_mpa"]) for r in rows}, reverse=True)
     fig, axes = plt.subplots(1, len(pressures), figsize=(5.2 * len(pressures), 4.0),
                              sharey=True, squeeze=False)
@@ -70,7 +65,7 @@ def draw_map(out: Path) -> Path:
 def draw_charts(out: Path) -> Path:
     """``design_charts.png``: per pressure, median critical SA and its 16–84 % band against
     rim thickness, per limit state with yielding rims, with rigid rims and the first touch."""
-    rows = _read(out / "design_charts.csv")
+    rows = read_csv(out / "design_charts.csv")
     pressures = sorted({float(r["pressure_mpa"]) for r in rows}, reverse=True)
     fig, axes = plt.subplots(1, len(pressures), figsize=(5.8 * len(pressures), 4.4),
                              sharey=True, squeeze=False)

@@ -14,51 +14,38 @@ Run: ``python -m validation.studies.ring_validation``.
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import statistics
 from pathlib import Path
 
 from rigid.collapse.comparison import write_csv
 
-from . import DOCS, RESULTS
+from . import DOCS, RESULTS, number, read_csv
 
 RING = DOCS / "fem-validation-ring"
 PLANE = DOCS / "fem-validation" / "fem_comparison.csv"
 FIRST_TOUCH = RESULTS / "hinge_vs_first_impact.csv"
 
 
-def _read(path: Path) -> list[dict]:
-    with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
-
-
-def _g(text: str) -> float:
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
-
-
 def rows(ring_folder: Path = RING) -> list[dict]:
     """One row per record, pressure and limit state run with the ring."""
-    plane = {(r["record"], r["pressure_mpa"], r["limit_state"]): r for r in _read(PLANE)}
-    touch = {(r["record"], r["pressure_mpa"]): _g(r["first_impact_sa_g"])
-             for r in _read(FIRST_TOUCH)}
+    plane = {(r["record"], r["pressure_mpa"], r["limit_state"]): r for r in read_csv(PLANE)}
+    touch = {(r["record"], r["pressure_mpa"]): number(r["first_impact_sa_g"])
+             for r in read_csv(FIRST_TOUCH)}
     out = []
     for path in sorted(ring_folder.glob("*/fem_comparison.csv")):
-        for r in _read(path):
+        for r in read_csv(path):
             key = (r["record"], r["pressure_mpa"], r["limit_state"])
             p = plane.get(key, {})
-            fe, y = _g(r["fem_sa_g"]), _g(r["yielding_sa_g"])
+            fe, y = number(r["fem_sa_g"]), number(r["yielding_sa_g"])
             first = touch.get(key[:2], math.nan)
             out.append({
                 "record": r["record"], "pressure_mpa": r["pressure_mpa"],
                 "limit_state": r["limit_state"],
                 "first_touch_sa_g": first,
-                "fem_ring_sa_g": fe, "fem_plane_sa_g": _g(p.get("fem_sa_g")),
-                "yielding_ring_sa_g": y, "yielding_plane_sa_g": _g(p.get("yielding_sa_g")),
-                "rigid_sa_g": _g(r["rigid_sa_g"]),
+                "fem_ring_sa_g": fe, "fem_plane_sa_g": number(p.get("fem_sa_g")),
+                "yielding_ring_sa_g": y, "yielding_plane_sa_g": number(p.get("yielding_sa_g")),
+                "rigid_sa_g": number(r["rigid_sa_g"]),
                 "fem_ring_mode": r["fem_failure_mode"], "fem_plane_mode": p.get("fem_failure_mode"),
                 "fem_ring_uncertain": r["uncertain"] == "True",
                 "fem_over_yielding_ring": fe / y if y > 0 else math.nan,
