@@ -14,7 +14,7 @@ import pytest
 
 from rigid import DFPBearing, G, ricker_record
 from rigid.collapse.ladder import _run_rung
-from rigid.tasks.runner import Task, run_tasks
+from rigid.tasks.runner import MissingResultsError, Task, run_tasks
 from rigid.tasks.store import ResultStore, task_key
 
 RIGID = ("rigid",)
@@ -267,6 +267,32 @@ def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     assert sorted(r["y"] for r in results.values()) == [0, 1, 4, 9, 16, 25]
 
 
+def _refuse(x):
+    raise AssertionError("a replay ran a task")
+
+
+def test_replay_reads_the_store_and_counts_what_is_missing(tmp_path):
+    """A replay runs nothing: the stored results (and the follow-ups of stored results) come
+    back as a run would return them; a task not stored (here: a kind whose function would
+    fail if run) is counted by kind, after the stored ones were replayed."""
+    store = ResultStore(tmp_path / "r.sqlite")
+
+    def next_rung(task, result):
+        x = task.kwargs["x"]
+        return [] if result["y"] > 20 else [Task(task_key("square", RIGID, x=x + 1), "square",
+                                                 _square, {"x": x + 1})]
+
+    ran = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=next_rung)
+    replayed = run_tasks(_tasks(1), store, progress=False, follow_up=next_rung, replay=True)
+    assert replayed == ran and store.count() == 6
+    new = [Task(task_key("cube", RIGID, x=x), "cube", _refuse, {"x": x}) for x in (1, 2)]
+    seen = []
+    with pytest.raises(MissingResultsError, match=r"2 results are not in .*\(cube 2\)") as info:
+        run_tasks([*new, *_tasks(1)], store, progress=False, replay=True,
+                  follow_up=lambda t, r: seen.append(t.key) or next_rung(t, r))
+    assert info.value.missing == {"cube": 2} and len(seen) == 6 and store.count() == 6
+
+
 def _rigid_tasks(n):
     """Rungs of a scaling ladder, run by the critical-SA search's own rung function."""
     bearing = DFPBearing(pressure=10e6)
@@ -368,7 +394,7 @@ INTERRUPTED_RUN = textwrap.dedent("""
     signal.signal(signal.SIGINT, signal.default_int_handler)
     sys.path.insert(0, {tests!r})
     from test_parallel import _sleep
-    from rigid.tasks.runner import Task, run_tasks
+    from rigid.tasks.runner import MissingResultsError, Task, run_tasks
     from rigid.tasks.store import ResultStore
     tasks = [Task(str(i), "sleep", _sleep, {{"seconds": 300, "flag": sys.argv[2] + str(i)}})
              for i in range(2)]

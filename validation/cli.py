@@ -370,6 +370,9 @@ def _validate_parser(sub):
                    help=f"local worker processes (1-{MAX_WORKERS})")
     p.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bars")
+    p.add_argument("--replay", action="store_true",
+                   help="compute nothing: rewrite the report of --out from its store alone; "
+                   "an error names the results missing there (a changed input or model code)")
     p.set_defaults(func=validate)
 
 

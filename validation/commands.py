@@ -303,6 +303,18 @@ def validate(args) -> int:
                          kinematics=args.fem_kinematics,
                          limit_states=tuple(dict.fromkeys(args.limit_state)))
     bearing = tuple(fields.items())
+    laws = ([args.rim_model] if "yielding" in args.rims else []) + (
+        ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
+    if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
+        from rigid.tasks import MissingResultsError, ResultStore
+
+        from .stored_rim_laws import keep_rim_laws
+
+        try:
+            with ResultStore(out / "results.sqlite") as store:
+                keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay)
+        except MissingResultsError as exc:
+            raise CommandError(str(exc)) from None
     if args.rim_model == "ring" and fem is not None:
         fem = dataclasses.replace(fem, rim_depth=_ring_depth(bearing, fem.limit_states))
     settings = Settings(
@@ -314,18 +326,24 @@ def validate(args) -> int:
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
         bearing=bearing, rim_model=args.rim_model,
     )
-    with open(out / "progress.log", "a") as fh:  # a first line at once (#32): the rims' law
-        fh.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')}: dfp validate: {len(motions)} "
-                 "records; preparing the tasks (the yielding rims' law: FE pushes, cached)\n")
+    if not args.replay:
+        with open(out / "progress.log", "a") as fh:  # a first line at once (#32): rims' law
+            fh.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')}: dfp validate: {len(motions)} "
+                     "records; preparing the tasks (the yielding rims' law: FE pushes, cached)\n")
     variant = f"; bearing: {describe_variant(fields)}" if fields else ""
     top = f"; ladder top {args.stop:g} g" if args.stop != LADDER_TOP else ""
     print(f"validation: {len(motions)} records ({label}), pressures "
           f"{', '.join(f'{p:g}' for p in args.pressure)} MPa{variant}{top} -> {out}")
     start = time.perf_counter()
     progress = None if args.progress else False
-    results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
-                                          workers=args.workers, progress=progress,
-                                          worker_wait=args.worker_wait)
+    from rigid.tasks import MissingResultsError
+
+    try:
+        results, fem_results = run_validation(motions, settings, out, scheduler=args.scheduler,
+                                              workers=args.workers, progress=progress,
+                                              worker_wait=args.worker_wait, replay=args.replay)
+    except MissingResultsError as exc:
+        raise CommandError(f"--replay: {exc}") from None
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
         numerical = [a for a in res.actual if a.numerical_failures]

@@ -235,13 +235,14 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
 
 def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
                    workers: int | None = None, progress: bool | None = None,
-                   fem_runner=None, worker_wait: float = 60.0):
+                   fem_runner=None, worker_wait: float = 60.0, replay: bool = False):
     """The rigid ladders and predictions, and the FE searches, in one run of tasks: a
     record's FE search starts as soon as its rigid critical SA is known (the FE records'
     rigid tasks are queued first), so FE runs overlap the remaining rigid work.
 
     ``fem_runner`` replaces :func:`validation.fem_search.fem_run` (tests); ``scheduler``,
-    ``workers``, ``progress`` and ``worker_wait`` [s] are :func:`rigid.tasks.run_tasks`'s.
+    ``workers``, ``progress``, ``worker_wait`` [s] and ``replay`` (compute nothing: every
+    result from the store) are :func:`rigid.tasks.run_tasks`'s.
 
     Returns
     -------
@@ -275,7 +276,8 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
                                   **({} if fem_runner is None else {"runner": fem_runner}))
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
                             workers=workers, progress=progress, worker_wait=worker_wait,
-                            description="rigid ladders and FE runs", log=out / "progress.log")
+                            description="rigid ladders and FE runs",
+                            log=None if replay else out / "progress.log", replay=replay)
     rigid_results = _collect_rigid(tasks, index, results, settings)
     fem: dict = {}
     if searches is not None:

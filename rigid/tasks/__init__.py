@@ -5,9 +5,9 @@ as it arrives, so that every long computation of the library can be resumed and 
 from .cache import cache_root, code_hash
 from .cluster import ClusterError
 from .files import FolderBusyError, FolderLock, atomic_path, atomic_write
-from .runner import Task, default_workers, run_tasks
+from .runner import MissingResultsError, Task, default_workers, run_tasks
 from .store import ResultStore, StoreError, StoreRecoveredWarning, task_key
 
-__all__ = ["ClusterError", "FolderBusyError", "FolderLock", "ResultStore", "StoreError",
-           "StoreRecoveredWarning", "Task", "atomic_path", "atomic_write", "cache_root",
+__all__ = ["ClusterError", "FolderBusyError", "FolderLock", "MissingResultsError",
+           "ResultStore", "StoreError", "StoreRecoveredWarning", "Task", "atomic_path", "atomic_write", "cache_root",
            "code_hash", "default_workers", "run_tasks", "task_key"]

@@ -19,7 +19,7 @@ import signal
 import sys
 import threading
 import time
-from collections import deque
+from collections import Counter, deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
@@ -44,6 +44,20 @@ class Task:
     kwargs: dict = field(default_factory=dict)
     size: int = 1
     leads: bool = True
+
+
+class MissingResultsError(LookupError):
+    """Results a replay (``run_tasks(..., replay=True)``) did not find in the store, by task
+    kind (``.missing``, a :class:`collections.Counter`): their inputs or the code of the models
+    they key on (:data:`rigid.tasks.cache.MODEL_CODE`) differ from those stored."""
+
+    def __init__(self, missing: Counter, store=None):
+        self.missing = missing
+        kinds = ", ".join(f"{kind} {n}" for kind, n in sorted(missing.items()))
+        where = f" in {store.path}" if store is not None else ""
+        super().__init__(f"{sum(missing.values())} results are not{where} ({kinds}): their "
+                         "inputs or their models' code changed since they were stored; run "
+                         "without replay to compute them")
 
 
 def default_workers() -> int:
@@ -205,6 +219,7 @@ def run_tasks(
     initializer: Callable | None = None,
     log=None,
     worker_wait: float = 60.0,
+    replay: bool = False,
 ) -> dict:
     """Run the tasks whose results are not in ``store``; return every result by key.
 
@@ -251,11 +266,17 @@ def run_tasks(
     worker_wait : float [s]
         On a cluster, the longest wait for a worker, at the start (the progress bar and the
         log say it waits) and whenever every worker has left.
+    replay : bool
+        Run nothing: every result comes from ``store`` (and the follow-ups of stored results
+        too); the tasks not found there are counted and, once the stored ones are replayed,
+        reported by :class:`MissingResultsError`.
     """
     from tqdm.auto import tqdm
 
     queue = deque(tasks)
     results = {}
+    if replay:  # nothing runs: no pool, no cluster
+        scheduler, workers = None, 1
     executor = (DaskExecutor(scheduler, worker_wait) if scheduler is not None
                 else _Local(workers or default_workers(), start_method, initializer))
     plain = progress is None and not sys.stderr.isatty()  # a pipe: plain lines
@@ -263,6 +284,7 @@ def run_tasks(
     bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
                disable=not progress, file=sys.stderr, dynamic_ncols=True)
     in_flight = {}
+    missing = Counter()  # replay: the kinds of the tasks not in the store
 
     def say(text):  # on the bar, and in the log
         bar.set_postfix_str(text)
@@ -302,6 +324,9 @@ def run_tasks(
                 stored = None if store is None else store.get(task.key)
                 if stored is not None:
                     finish(task, stored)
+                elif replay:
+                    missing[task.kind] += 1
+                    bar.total -= task.size
                 else:
                     beat.begin(len(queue) + 1)  # the log's first line, before any run
                     future = executor.submit(task)
@@ -328,4 +353,6 @@ def run_tasks(
         beat.stop()
         bar.close()
     executor.close()
+    if missing:
+        raise MissingResultsError(missing, store)
     return results

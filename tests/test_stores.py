@@ -1,0 +1,70 @@
+"""The committed validation stores replay with today's code: `dfp validate --replay` rewrites
+each folder's report from its store alone, running no rigid ladder, no FE run and no rim push,
+and gives the FE critical SA the folder documents.
+
+A store is keyed by its inputs and the code of the models that computed it
+(rigid.tasks.cache.MODEL_CODE), so a change to that code makes the stored runs unreachable:
+this test then fails, and the change must either leave the physics' code alone or rerun what
+the folder documents (docs/fem_validation.md, "Which code made the stores"). The rim laws come
+from the store too: the library's cache is pointed at an empty folder.
+"""
+
+import csv
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+
+#: Folders replayable with today's code, and the arguments of the `dfp validate` that made
+#: each (the folders' docs give the same commands).
+REPLAYABLE = {
+    "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
+                           "--stop", "3"],
+}
+
+
+def _answers(path: Path) -> dict:
+    """The FE and yielding-rim critical SA of every search, by (record, pressure, state)."""
+    with open(path, newline="") as fh:
+        return {(r["record"], r["pressure_mpa"], r["limit_state"]):
+                (r["fem_sa_g"], r["yielding_sa_g"], r["fem_runs"], r["fem_failure_mode"])
+                for r in csv.DictReader(fh)}
+
+
+@pytest.mark.parametrize("folder", sorted(REPLAYABLE))
+def test_committed_store_replays_without_computing(tmp_path, folder):
+    out = tmp_path / "out"
+    out.mkdir()
+    shutil.copy(DOCS / folder / "results.sqlite", out)
+    env = {**os.environ, "DFP_CACHE_DIR": str(tmp_path / "empty-cache")}
+    done = subprocess.run(
+        [sys.executable, "-m", "validation.cli", "validate", *REPLAYABLE[folder],
+         "--out", str(out), "--replay", "--no-progress"],
+        capture_output=True, text=True, timeout=600, env=env)
+    assert done.returncode == 0, done.stderr
+    assert _answers(out / "fem_comparison.csv") == _answers(DOCS / folder / "fem_comparison.csv")
+
+
+def test_a_replay_names_what_its_store_lacks(tmp_path):
+    """An empty store: the rim law (yielding rims, the default) is the first thing missing;
+    with rigid rims only, the record's ladders; one line, nothing computed."""
+    record = tmp_path / "pulse.txt"
+    record.write_text("0\n0.1\n0\n")
+    manifest = tmp_path / "m.csv"
+    manifest.write_text("path,dt,units\npulse.txt,0.01,g\n")
+    env = {**os.environ, "DFP_CACHE_DIR": str(tmp_path / "empty-cache")}
+    for rims, missing in ((["rigid", "yielding"], "(rim-law 1)"),
+                          (["rigid"], "(rigid-record 2)")):
+        done = subprocess.run(
+            [sys.executable, "-m", "validation.cli", "validate", "--manifest", str(manifest),
+             "--rims", *rims, "--out", str(tmp_path / "out"), "--replay", "--no-progress"],
+            capture_output=True, text=True, timeout=600, env=env)
+        lines = done.stderr.strip().splitlines()
+        assert done.returncode != 0 and len(lines) == 1, done.stderr
+        assert missing in lines[0] and "not in" in lines[0], lines[0]
+    assert not (tmp_path / "empty-cache" / "rim-laws").exists()
