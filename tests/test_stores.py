@@ -50,6 +50,40 @@ def test_committed_store_replays_without_computing(tmp_path, folder):
     assert _answers(out / "fem_comparison.csv") == _answers(DOCS / folder / "fem_comparison.csv")
 
 
+#: The design-space studies' folders (docs/rim-design) and their arguments.
+STUDIES = {
+    "rim-design": [],
+    "rim-design/rims45": ["--thicknesses", "80", "160", "320", "--rim-height", "45"],
+}
+
+
+@pytest.mark.parametrize("folder", sorted(STUDIES))
+def test_the_design_space_replays_without_computing(tmp_path, folder):
+    """Its 560 rigid-model cases and its rims' laws (the 2-D pushes) from the stores alone."""
+    out = tmp_path / "out"
+    (out / "store").mkdir(parents=True)
+    shutil.copy(DOCS / folder / "store" / "results.sqlite", out / "store")
+    env = {**os.environ, "DFP_CACHE_DIR": str(tmp_path / "empty-cache")}
+    done = subprocess.run(
+        [sys.executable, "-m", "validation.studies.rim_design", *STUDIES[folder],
+         "--out", str(out), "--replay"], capture_output=True, text=True, timeout=600, env=env)
+    assert done.returncode == 0, done.stderr
+    for name in ("cases.csv", "rim_capacity.csv", "failure_mode_map.csv"):
+        assert (out / name).read_text() == (DOCS / folder / name).read_text(), name
+
+
+def test_the_rim_pushes_replay_without_computing(tmp_path):
+    """The 3-D and 2-D rim pushes of docs/rim-3d (ours and CalculiX's) from its store."""
+    out = tmp_path / "out"
+    (out / "store").mkdir(parents=True)
+    shutil.copy(DOCS / "rim-3d" / "store" / "results.sqlite", out / "store")
+    done = subprocess.run(
+        [sys.executable, "-m", "validation.studies.rim3d", "--replay", "--out", str(out)],
+        capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert (out / "pushes.csv").read_text() == (DOCS / "rim-3d" / "pushes.csv").read_text()
+
+
 def test_a_replay_names_what_its_store_lacks(tmp_path):
     """An empty store: the rim law (yielding rims, the default) is the first thing missing;
     with rigid rims only, the record's ladders; one line, nothing computed."""

@@ -9,5 +9,5 @@ from .runner import MissingResultsError, Task, default_workers, run_tasks
 from .store import ResultStore, StoreError, StoreRecoveredWarning, task_key
 
 __all__ = ["ClusterError", "FolderBusyError", "FolderLock", "MissingResultsError",
-           "ResultStore", "StoreError", "StoreRecoveredWarning", "Task", "atomic_path", "atomic_write", "cache_root",
-           "code_hash", "default_workers", "run_tasks", "task_key"]
+           "ResultStore", "StoreError", "StoreRecoveredWarning", "Task", "atomic_path",
+           "atomic_write", "cache_root", "code_hash", "default_workers", "run_tasks", "task_key"]

@@ -188,13 +188,14 @@ def run(only: str | None = None, workers: int | None = None, store_path=None,
     result by case: (thickness, height, slider, kind, width, mesh, model)."""
     from rigid.tasks import ResultStore, run_tasks
 
-    store = ResultStore(store_path or FOLDER / "store" / "results.sqlite")
+    store_path = Path(store_path or FOLDER / "store" / "results.sqlite")
+    store = ResultStore(store_path)
     tasks, keyed = _tasks(only)
     if replay:
         results = store.get_many(keyed)
     else:
         results = run_tasks(tasks, store, workers=workers, description="rim pushes",
-                            log=FOLDER / "store" / "progress.log")
+                            log=store_path.parent / "progress.log")
     store.close()
     return {tuple(keyed[k][f] for f in ORDER): v for k, v in results.items()}
 
@@ -256,9 +257,9 @@ def main() -> None:
     ap.add_argument("--replay", action="store_true",
                     help="write the tables from the stored pushes only, running none")
     args = ap.parse_args()
-    results = run(args.only, args.workers, replay=args.replay)
-    table, curves = rows(results)
     out = Path(args.out)
+    results = run(args.only, args.workers, out / "store" / "results.sqlite", args.replay)
+    table, curves = rows(results)
     write(out / "pushes.csv", table, COLUMNS)
     write(out / "curves.csv", curves, ("model", "load", "mesh", "rim_thickness_mm",
                                        "rim_height_mm", "slider_diameter_m",

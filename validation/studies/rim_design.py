@@ -89,18 +89,25 @@ def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, c
 
 def cases(thicknesses_mm, pressures_mpa, out: Path, *, rim_model="plane-strain",
           workers=2, records=None, cache=None,
-          rim_height: float = DFPBearing.rim_height) -> list[dict]:
+          rim_height: float = DFPBearing.rim_height, replay: bool = False) -> list[dict]:
     """Run (or read) every case; one row per thickness × pressure × record (``rim_height``
-    [m])."""
+    [m]); ``replay``: run nothing (:func:`rigid.tasks.run_tasks`), the rims' laws from the
+    store too."""
+    from ..stored_rim_laws import keep_rim_laws
+
     motions = rigid.fema_p695("nearfield_pulse")[:records]
     cache = cache_root() / "ladders" if cache is None else cache
-    todo, what = tasks(thicknesses_mm, pressures_mpa, motions, rim_model, STOP, cache,
-                       rim_height)
     (out / "store").mkdir(parents=True, exist_ok=True)
     with ResultStore(out / "store" / "results.sqlite") as store:
+        for t in thicknesses_mm:
+            keep_rim_laws(store, DFPBearing(rim_thickness=t * 1e-3, rim_height=rim_height),
+                          [rim_model], replay=replay)
+        todo, what = tasks(thicknesses_mm, pressures_mpa, motions, rim_model, STOP, cache,
+                           rim_height)
         results = run_tasks(todo, store, workers=workers, description="rim design cases",
                             unit="case", start_method=pool_context().get_start_method(),
-                            log=out / "store" / "progress.log")
+                            log=None if replay else out / "store" / "progress.log",
+                            replay=replay)
     rigid_rims = {label[1:]: results[key] for key, label in what.items() if label[0] == "rigid"}
     return [{"rim_thickness_mm": t, "rim_height_mm": rim_height * 1e3, "pressure_mpa": p,
              "record": name, "rim_model": rim_model, **rigid_rims[p, name], **results[key]}
@@ -211,11 +218,13 @@ def main(argv=None) -> None:
     p.add_argument("--records", type=int, help="only the first N components")
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--out", type=Path, default=OUT)
+    p.add_argument("--replay", action="store_true",
+                   help="run nothing: every case and rim law from the store")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     rows = cases(args.thicknesses, args.pressures, args.out, rim_model=args.rim_model,
                  workers=args.workers, records=args.records,
-                 rim_height=args.rim_height * 1e-3)
+                 rim_height=args.rim_height * 1e-3, replay=args.replay)
     wall = time.perf_counter() - t0
     write_csv(rows, args.out / "cases.csv")
     write_csv(mode_map(rows), args.out / "failure_mode_map.csv")
