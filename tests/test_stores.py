@@ -102,3 +102,56 @@ def test_a_replay_names_what_its_store_lacks(tmp_path):
         assert done.returncode != 0 and len(lines) == 1, done.stderr
         assert missing in lines[0] and "not in" in lines[0], lines[0]
     assert not (tmp_path / "empty-cache" / "rim-laws").exists()
+
+
+def _toy(x, root):
+    """The toy model of the re-keying test: ``f`` of the file ``toy.py`` under ``root``."""
+    import time
+
+    space: dict = {}
+    exec((Path(root) / "toy.py").read_text(), space)
+    return {"y": space["f"](x), "cpu_seconds": time.process_time()}
+
+
+def test_rekey_carries_results_over_a_change_that_leaves_the_physics_alone(tmp_path,
+                                                                          monkeypatch):
+    """A toy model in its own git repository: its results, stored by the committed code,
+    are carried over to the keys of an edit that changes no result (a comment), after a
+    rerun; an edit that changes a result is refused, and nothing is carried over."""
+    from rigid.tasks import MissingResultsError, ResultStore, Task, cache, run_tasks, task_key
+    from rigid.tasks.rekey import RekeyError, rekey
+
+    repo = tmp_path / "repo"
+    repo.mkdir()
+    (repo / "toy.py").write_text("def f(x):\n    return x * x\n")
+    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
+    subprocess.run([*git, "init", "-q"], check=True)
+    subprocess.run([*git, "add", "toy.py"], check=True)
+    subprocess.run([*git, "commit", "-qm", "toy"], check=True)
+    monkeypatch.setattr(cache, "ROOT", repo)
+    monkeypatch.setattr(cache, "MODEL_CODE", {"toy": ("toy.py",)})
+    cache.code_hash.cache_clear()
+
+    def tasks():
+        return [Task(task_key("toy", ("toy",), x=x), "toy", _toy, {"x": x, "root": str(repo)})
+                for x in range(4)]
+
+    def replay(seen=None):
+        return run_tasks(tasks(), store, progress=False, replay=True, seen=seen)
+
+    store = ResultStore(tmp_path / "r.sqlite")
+    run_tasks(tasks(), store, workers=1, progress=False)
+    (repo / "toy.py").write_text("def f(x):\n    return x * x  # the same physics\n")
+    cache.code_hash.cache_clear()
+    with pytest.raises(MissingResultsError):
+        replay()
+    assert rekey(store, replay, "HEAD") == {"toy": 4}
+    assert [r["y"] for r in replay().values()] == [0, 1, 4, 9]
+
+    (repo / "toy.py").write_text("def f(x):\n    return x * x + 1\n")
+    cache.code_hash.cache_clear()
+    with pytest.raises(RekeyError, match="differs"):
+        rekey(store, replay, "HEAD")
+    with pytest.raises(MissingResultsError):
+        replay()
+    cache.code_hash.cache_clear()

@@ -235,14 +235,15 @@ def run_rigid(motions, settings: Settings, out: Path, *, scheduler=None,
 
 def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
                    workers: int | None = None, progress: bool | None = None,
-                   fem_runner=None, worker_wait: float = 60.0, replay: bool = False):
+                   fem_runner=None, worker_wait: float = 60.0, replay: bool = False,
+                   seen: dict | None = None):
     """The rigid ladders and predictions, and the FE searches, in one run of tasks: a
     record's FE search starts as soon as its rigid critical SA is known (the FE records'
     rigid tasks are queued first), so FE runs overlap the remaining rigid work.
 
     ``fem_runner`` replaces :func:`validation.fem_search.fem_run` (tests); ``scheduler``,
-    ``workers``, ``progress``, ``worker_wait`` [s] and ``replay`` (compute nothing: every
-    result from the store) are :func:`rigid.tasks.run_tasks`'s.
+    ``workers``, ``progress``, ``worker_wait`` [s], ``replay`` (compute nothing: every
+    result from the store) and ``seen`` are :func:`rigid.tasks.run_tasks`'s.
 
     Returns
     -------
@@ -277,7 +278,8 @@ def run_validation(motions, settings: Settings, out: Path, *, scheduler=None,
         results = run_tasks(first, store, follow_up=follow_up, scheduler=scheduler,
                             workers=workers, progress=progress, worker_wait=worker_wait,
                             description="rigid ladders and FE runs",
-                            log=None if replay else out / "progress.log", replay=replay)
+                            log=None if replay else out / "progress.log", replay=replay,
+                            seen=seen)
     rigid_results = _collect_rigid(tasks, index, results, settings)
     fem: dict = {}
     if searches is not None:

@@ -220,6 +220,7 @@ def run_tasks(
     log=None,
     worker_wait: float = 60.0,
     replay: bool = False,
+    seen: dict | None = None,
 ) -> dict:
     """Run the tasks whose results are not in ``store``; return every result by key.
 
@@ -270,6 +271,9 @@ def run_tasks(
         Run nothing: every result comes from ``store`` (and the follow-ups of stored results
         too); the tasks not found there are counted and, once the stored ones are replayed,
         reported by :class:`MissingResultsError`.
+    seen : dict, optional
+        Filled with every task whose result was read from ``store``, by key (what
+        :func:`rigid.tasks.rekey.rekey` reruns to compare).
     """
     from tqdm.auto import tqdm
 
@@ -323,6 +327,8 @@ def run_tasks(
                     continue
                 stored = None if store is None else store.get(task.key)
                 if stored is not None:
+                    if seen is not None:
+                        seen[task.key] = task
                     finish(task, stored)
                 elif replay:
                     missing[task.kind] += 1

@@ -57,14 +57,31 @@ def _canonical(value):
     raise TypeError(f"cannot hash an input of type {type(value).__name__}")
 
 
+#: Called with ``(key, kind, models, canonical inputs)`` by every :func:`task_key` when set
+#: (:func:`rigid.tasks.rekey.recording`).
+RECORD = None
+#: ``(kind, models, canonical inputs) -> code hash`` in place of :func:`code_hash` when set
+#: (:func:`rigid.tasks.rekey.code_at`).
+CODE = None
+
+
+def key_of(kind: str, code: str, canonical) -> str:
+    """The key of a task of ``kind`` run by code of hash ``code`` on ``canonical`` inputs."""
+    text = json.dumps({"schema": SCHEMA, "kind": kind, "code": code, "inputs": canonical},
+                      sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 def task_key(kind: str, models: tuple[str, ...], /, **inputs) -> str:
     """The one key of every stored result: SHA-256 of :data:`SCHEMA`, the task's kind (e.g.
     ``"ladder-rung"``), the code of the models it ran (:func:`rigid.tasks.cache.code_hash`;
     ``models`` names them, e.g. ``("rigid",)``) and every input (arrays by their SHA-256)."""
-    text = json.dumps({"schema": SCHEMA, "kind": kind, "code": code_hash(*models),
-                       "inputs": _canonical(inputs)},
-                      sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(text.encode()).hexdigest()
+    canonical = _canonical(inputs)
+    code = code_hash(*models) if CODE is None else CODE(kind, models, canonical)
+    key = key_of(kind, code, canonical)
+    if RECORD is not None:
+        RECORD((key, kind, tuple(models), canonical))
+    return key
 
 
 class StoreError(OSError):
@@ -306,6 +323,22 @@ class ResultStore:
             "VALUES (?, ?, ?, ?, ?)",
             (key, kind, json.dumps(result), seconds, time.time()),
         )
+
+    @_named
+    def seconds(self, key: str) -> float | None:
+        """The seconds the stored result took to compute (None: not stored, or not timed)."""
+        row = self._db.execute("SELECT seconds FROM results WHERE key = ?", (key,)).fetchone()
+        return None if row is None else row[0]
+
+    @_named
+    def copy(self, key: str, new_key: str) -> bool:
+        """Store the result of ``key`` under ``new_key`` too (its kind, seconds and time of
+        creation kept), unless ``new_key`` has one; True if it was copied."""
+        done = self._db.execute(
+            "INSERT OR IGNORE INTO results (key, kind, result, seconds, created) "
+            "SELECT ?, kind, result, seconds, created FROM results WHERE key = ?",
+            (new_key, key))
+        return done.rowcount > 0
 
     @_named
     def count(self, kind: str | None = None) -> int:

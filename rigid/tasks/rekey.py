@@ -1,0 +1,167 @@
+"""Carry stored results across a change of code that leaves the physics alone.
+
+Every stored result's key holds the hash of its models' source (:func:`.cache.code_hash`), so
+any edit to a model (a comment, a repr, a new option that is off by default) makes its
+stored results unreachable. :func:`rekey` carries them over, with evidence: it replays a
+run with the models' code hashed as it was at an earlier git revision (:func:`code_at`), so
+that the replay asks for the keys the stored results have; it records the kind and inputs of
+every key asked for (:func:`recording`); it reruns a few of the stored tasks with today's
+code and requires their results to be identical, timings aside; only then does it copy every
+result found under the key today's code asks for. Tasks whose inputs changed, not only their
+code, are out of its reach: they are asked for under other keys and stay missing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import subprocess
+from collections.abc import Callable
+from contextlib import contextmanager
+from pathlib import PurePosixPath
+
+from . import cache
+from . import store as _store
+
+__all__ = ["RekeyError", "code_at", "recording", "rekey"]
+
+#: Result fields that measure the machine, not the physics: left out of the comparison.
+TIMINGS = frozenset({"cpu_seconds", "wall_seconds", "cpu_s", "seconds", "elapsed_s"})
+
+
+class RekeyError(RuntimeError):
+    """A rerun with today's code differs from the stored result, or the revision is unknown:
+    nothing was carried over."""
+
+
+def _git(*args: str) -> bytes:
+    try:
+        return subprocess.run(["git", "-C", str(cache.ROOT), *args], check=True,
+                              capture_output=True).stdout
+    except (OSError, subprocess.CalledProcessError) as exc:
+        detail = getattr(exc, "stderr", b"") or str(exc).encode()
+        raise RekeyError(f"git {' '.join(args[:2])}: "
+                         f"{detail.decode(errors='replace').strip()}") from None
+
+
+def _hash_at(revision: str, models: tuple[str, ...]) -> str:
+    """:func:`.cache.code_hash` of the models' source at ``revision`` (the same files, names
+    and order as in the work tree)."""
+    entries = {e for codes in cache.MODEL_CODE.values() for e in codes}
+    listed = _git("ls-tree", "-r", "--name-only", revision).decode().splitlines()
+    h = hashlib.sha256()
+    for model in sorted(set(models)):
+        for entry in cache.MODEL_CODE[model]:
+            if entry in listed:
+                files = [PurePosixPath(entry)]
+            else:  # a folder: its .py and .geo files, less the sub-folders of other entries
+                own = [PurePosixPath(e) for e in entries if e != entry
+                       and PurePosixPath(e).is_relative_to(entry) and e not in listed]
+                files = sorted(PurePosixPath(p) for p in listed
+                               if PurePosixPath(p).is_relative_to(entry)
+                               and PurePosixPath(p).suffix in (".py", ".geo")
+                               and not any(PurePosixPath(p).is_relative_to(o) for o in own))
+            for path in files:
+                h.update(str(path).encode())
+                h.update(_git("show", f"{revision}:{path}"))
+    return h.hexdigest()
+
+
+@contextmanager
+def code_at(revision: str, today: tuple = ("rim-law",), current=None):
+    """Inside, :func:`.store.task_key` hashes the models' code as it was at the git
+    ``revision`` (a commit of the repository holding the models), not as it is now, except
+    for the kinds in ``today`` (the library's caches of derived data, a rim law, which
+    today's code reads or computes anyway) and the tasks for which ``current(key)`` says
+    today's key is already stored."""
+    resolved = _git("rev-parse", "--verify", f"{revision}^{{commit}}").decode().strip()
+    memo: dict = {}
+
+    def hashed(kind, models, canonical):
+        now = cache.code_hash(*models)
+        if kind in today or (current is not None
+                             and current(_store.key_of(kind, now, canonical))):
+            return now
+        key = tuple(sorted(set(models)))
+        if key not in memo:
+            memo[key] = _hash_at(resolved, key)
+        return memo[key]
+
+    previous = _store.CODE
+    _store.CODE = hashed
+    try:
+        yield resolved
+    finally:
+        _store.CODE = previous
+
+
+@contextmanager
+def recording():
+    """Inside, every :func:`.store.task_key` call is recorded: the list yielded holds
+    ``(key, kind, models, canonical inputs)``."""
+    calls: list = []
+    previous = _store.RECORD
+    _store.RECORD = calls.append
+    try:
+        yield calls
+    finally:
+        _store.RECORD = previous
+
+
+def _physics(result):
+    """A result as JSON reads it back, without its timings."""
+    def strip(x):
+        if isinstance(x, dict):
+            return {k: strip(v) for k, v in x.items() if k not in TIMINGS}
+        if isinstance(x, list):
+            return [strip(v) for v in x]
+        return x
+
+    return strip(json.loads(json.dumps(result)))
+
+
+def rekey(store, replay: Callable[[dict], None], revision: str, *,
+          verify: int = 2) -> dict:
+    """Carry the results of ``store`` keyed by the code of ``revision`` over to today's keys.
+
+    Parameters
+    ----------
+    store : ResultStore
+    replay : callable
+        ``replay(seen)`` replays the run (``run_tasks(..., replay=True, seen=seen)``), which
+        fills ``seen`` with every task found, by key; a task not found stops it
+        (:class:`.runner.MissingResultsError`).
+    revision : str
+        The git revision whose code made the stored results.
+    verify : int
+        Tasks of each kind rerun with today's code (the shortest stored), whose results must
+        equal the stored ones, timings aside (:data:`TIMINGS`).
+
+    Returns
+    -------
+    dict {kind: number of results carried over}; :class:`RekeyError` if a rerun differs.
+    """
+    seen: dict = {}
+    with recording() as calls, code_at(revision, current=store.__contains__):
+        replay(seen)
+    today = {}  # the tasks found under the revision's key → today's key
+    for old, kind, models, inputs in calls:
+        new = _store.key_of(kind, cache.code_hash(*models), inputs)
+        if old in seen and new != old:
+            today[old] = new
+    by_kind: dict = {}
+    for key in today:
+        by_kind.setdefault(seen[key].kind, []).append(key)
+    for kind, keys in by_kind.items():
+        keys.sort(key=lambda k: store.seconds(k) or 0.0)
+        for key in keys[:verify]:
+            task = seen[key]
+            if _physics(task.func(**task.kwargs)) != _physics(store.get(key)):
+                raise RekeyError(f"a {kind} task rerun with today's code differs from the one "
+                                 f"stored by {revision}: the physics changed; nothing was "
+                                 "carried over (rerun instead)")
+    carried: dict = {}
+    for old, new in today.items():
+        if store.copy(old, new):
+            carried[seen[old].kind] = carried.get(seen[old].kind, 0) + 1
+    return carried
