@@ -23,6 +23,8 @@ DOCS = Path(__file__).resolve().parents[1] / "docs"
 #: Folders replayable with today's code, and the arguments of the `dfp validate` that made
 #: each (the folders' docs give the same commands).
 REPLAYABLE = {
+    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
+                       "--limit-state", "hinge", "rupture", "containment"],
     "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
                            "--stop", "3"],
 }
