@@ -393,9 +393,12 @@ def _rekey(revision: str, motions, settings, out: Path) -> None:
             carried = rekey(store, replay, revision)
     except (RekeyError, MissingResultsError) as exc:
         raise CommandError(f"--rekey-from {revision}: {exc}") from None
-    what = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.items())) or "none needed"
-    print(f"results carried over from the code of {revision} (2 of each kind rerun: "
-          f"identical): {what}")
+    if not carried:
+        print(f"--rekey-from {revision}: nothing to carry over")
+        return
+    what = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.items()))
+    print(f"results carried over from the code of {revision}: {what} (the shortest two of "
+          "each kind rerun with today's code: identical)")
 
 
 def _ring_depth(bearing, limit_states) -> float:

@@ -44,6 +44,8 @@ MODEL_CODE = {
     "fem": ("fem", "meshes"),
     # the 3-D static pushes of the rim as a ring
     "fem-ring": ("fem/ring",),
+    # the rim steel's ductile fracture: criterion and damage (not yet part of an FE run)
+    "fem-fracture": ("fem/fracture",),
     # one FE run of the validation: trimming and the end-of-run energy check
     "fem-run": ("validation/fem_runs.py",),
     # one FE run of a Ricker pulse (the yielding-rims study)

@@ -1,0 +1,89 @@
+"""The rim steel's ductile fracture criterion (fem/fracture; docs/theory/finite-elements.md,
+Eqs. F62–F65) against closed forms: the triaxiality of textbook stress states, the critical
+strain at uniaxial and plane-strain tension, and the linear damage sum along a path."""
+
+import math
+
+import numpy as np
+import pytest
+
+from fem.fracture import FRACTURE_SETS, StressModifiedStrain, accumulate_damage, triaxiality
+
+SQRT2 = math.sqrt(2.0)
+SIGMA = 345e6
+
+
+@pytest.mark.parametrize("stress, expected", [
+    ([SIGMA, 0, 0, 0], 1 / 3),                       # uniaxial tension
+    ([-SIGMA, 0, 0, 0], -1 / 3),                     # uniaxial compression
+    ([SIGMA, SIGMA, 0, 0], 2 / 3),                   # equibiaxial tension
+    ([0, 0, 0, SQRT2 * SIGMA], 0.0),                 # pure shear (Mandel: √2·τ)
+    ([SIGMA, 0, SIGMA / 2, 0], 1 / math.sqrt(3)),    # plane-strain tension, plastic flow
+    ([SIGMA, SIGMA, SIGMA, 0], 0.0),                 # hydrostatic: no deviator, T set to 0
+])
+def test_triaxiality_of_textbook_stress_states(stress, expected):
+    """Closed forms (Eq. F62); the tolerance is round-off. Plane-strain flow of a J2 material
+    has σ_zz = (σ_xx + σ_yy)/2, which gives T = 1/√3 in plane-strain tension (Eq. F65)."""
+    assert triaxiality(np.array(stress)) == pytest.approx(expected, abs=1e-12)
+
+
+def test_triaxiality_is_invariant_to_a_rotation_of_the_plane():
+    """T depends on invariants only: the same state rotated by 30° in the x-y plane."""
+    s, c = math.sin(math.pi / 6), math.cos(math.pi / 6)
+    sxx, syy, szz, sxy = 300e6, -100e6, 80e6, 50e6
+    rxx = c * c * sxx + s * s * syy + 2 * s * c * sxy
+    ryy = s * s * sxx + c * c * syy - 2 * s * c * sxy
+    rxy = (c * c - s * s) * sxy + s * c * (syy - sxx)
+    a = triaxiality(np.array([sxx, syy, szz, SQRT2 * sxy]))
+    b = triaxiality(np.array([rxx, ryy, szz, SQRT2 * rxy]))
+    assert a == pytest.approx(b, rel=1e-12)
+
+
+def test_critical_strain_at_uniaxial_and_plane_strain_tension():
+    """At T = 1/3 the critical strain is the rupture strain itself (Eq. F63); at plane-strain
+    tension, T = 1/√3, it is exp(−1.5 (1/√3 − 1/3)) = 0.693 of it with the median exponent
+    (Eq. F65, the 0.69 of issue #31); at and below T = −1/3 no damage accrues."""
+    crit = StressModifiedStrain(0.19, 1.5)
+    assert crit.critical_strain(1 / 3) == pytest.approx(0.19, rel=1e-14)
+    ratio = crit.critical_strain(1 / math.sqrt(3)) / 0.19
+    assert ratio == pytest.approx(math.exp(-1.5 * (1 / math.sqrt(3) - 1 / 3)), rel=1e-14)
+    assert round(float(ratio), 3) == 0.693
+    assert np.all(np.isinf(crit.critical_strain([-1 / 3, -1.0])))
+    assert crit.damage_increment(0.5, -0.5) == 0.0
+
+
+def test_damage_is_the_sum_along_the_path():
+    """A proportional path at constant T reaches D = 1 at p = ε_c(T), whatever the number of
+    increments (1 or 1000: round-off only); a two-stage path adds its stages' fractions, in
+    either order (the linear sum of Eq. F64)."""
+    crit = FRACTURE_SETS["median"](0.19)
+    t = 1 / math.sqrt(3)
+    eps_c = float(crit.critical_strain(t))
+    steps = np.full(1000, eps_c / 1000)
+    assert accumulate_damage(crit, steps, np.full(1000, t))[-1] == pytest.approx(1.0, rel=1e-12)
+    half_uniaxial, half_plane = 0.5 * 0.19, 0.5 * eps_c
+    forward = accumulate_damage(crit, [half_uniaxial, half_plane], [1 / 3, t])
+    backward = accumulate_damage(crit, [half_plane, half_uniaxial], [t, 1 / 3])
+    assert forward[-1] == pytest.approx(1.0, rel=1e-14)
+    assert backward[-1] == pytest.approx(1.0, rel=1e-14)
+    assert forward[0] == pytest.approx(0.5, rel=1e-14)
+
+
+def test_the_three_sets_share_the_uniaxial_anchor_and_spread_above_it():
+    """Low, median and high agree at T = 1/3 (the tensile test) and spread with T: at
+    plane-strain tension 0.60, 0.69 and 0.89 of the rupture strain."""
+    sets = {name: make(0.19) for name, make in FRACTURE_SETS.items()}
+    for crit in sets.values():
+        assert crit.critical_strain(1 / 3) == pytest.approx(0.19, rel=1e-14)
+    t = 1 / math.sqrt(3)
+    ratios = [float(sets[n].critical_strain(t)) / 0.19 for n in ("low", "median", "high")]
+    assert ratios == sorted(ratios)
+    assert [round(r, 2) for r in ratios] == [0.60, 0.69, 0.89]
+
+
+@pytest.mark.parametrize("kwargs, field", [({"rupture_strain": 0.0}, "rupture_strain"),
+                                           ({"rupture_strain": math.inf}, "rupture_strain"),
+                                           ({"exponent": -1.0}, "exponent")])
+def test_bad_constants_are_refused(kwargs, field):
+    with pytest.raises(ValueError, match=field):
+        StressModifiedStrain(**kwargs)
