@@ -1,13 +1,20 @@
 """The rim steel's ductile fracture criterion (fem/fracture; docs/theory/finite-elements.md,
-Eqs. F62–F65) against closed forms: the triaxiality of textbook stress states, the critical
-strain at uniaxial and plane-strain tension, and the linear damage sum along a path."""
+Eqs. F62–F66) against closed forms: the triaxiality of textbook stress states, the critical
+strain at uniaxial and plane-strain tension, the linear damage sum along a path, and the
+damage over a gauge, which without a triaxiality term is today's rupture."""
 
 import math
 
 import numpy as np
 import pytest
 
-from fem.fracture import FRACTURE_SETS, StressModifiedStrain, accumulate_damage, triaxiality
+from fem.fracture import (
+    FRACTURE_SETS,
+    GaugeDamage,
+    StressModifiedStrain,
+    accumulate_damage,
+    triaxiality,
+)
 
 SQRT2 = math.sqrt(2.0)
 SIGMA = 345e6
@@ -87,3 +94,51 @@ def test_the_three_sets_share_the_uniaxial_anchor_and_spread_above_it():
 def test_bad_constants_are_refused(kwargs, field):
     with pytest.raises(ValueError, match=field):
         StressModifiedStrain(**kwargs)
+
+
+def _uniaxial(p_steps, n=3):
+    """``len(p_steps)`` steps of uniaxial tension at n points: plastic strains and stresses."""
+    stress = np.tile([SIGMA, 0.0, 0.0, 0.0], (n, 1))
+    return [(np.full(n, p), stress) for p in p_steps]
+
+
+def test_gauge_damage_without_triaxiality_is_todays_rupture():
+    """Exponent 0: the damage over the gauge is the gauge-averaged plastic strain over the
+    rupture strain (Eqs. F51, F66) at every step, whatever the stress above the cut-off
+    (here non-negative normal stresses and any shear: T ≥ 0)."""
+    from scipy.sparse import csr_matrix
+
+    rng = np.random.default_rng(1)
+    operator = csr_matrix(np.array([[0.5, 0.5, 0.0], [0.0, 0.25, 0.75]]))
+    damage = GaugeDamage(StressModifiedStrain(0.19, 0.0), operator)
+    p = np.zeros(3)
+    for _ in range(20):
+        p = p + rng.uniform(0, 0.02, 3)
+        stress = np.column_stack([rng.uniform(0, 400e6, (3, 3)), rng.normal(0, 2e8, 3)])
+        d = damage.update(p, stress)
+        assert d == pytest.approx(operator @ p / 0.19, rel=1e-12)
+
+
+def test_gauge_damage_at_constant_triaxiality_and_under_compression():
+    """Uniaxial tension everywhere: D̄ = p̄/ε_r (Eq. F63 at T = 1/3). A gauge half in
+    tension, half in compression averages T̄ = 0: D̄ = p̄/(ε_r e^{c/3}). A point of its own in
+    compression (T = −1/3, the cut-off) takes no damage."""
+    damage = GaugeDamage(StressModifiedStrain(0.19, 1.5), np.eye(3))
+    for p, stress in _uniaxial([0.05, 0.10, 0.19]):
+        d = damage.update(p, stress)
+    assert d == pytest.approx(np.ones(3), rel=1e-12)
+
+    half = GaugeDamage(StressModifiedStrain(0.19, 1.5), np.array([[0.5, 0.5]]))
+    stress = np.array([[SIGMA, 0, 0, 0], [-SIGMA, 0, 0, 0]])
+    d = half.update(np.array([0.1, 0.1]), stress)
+    assert d == pytest.approx([0.1 / (0.19 * math.exp(1.5 / 3))], rel=1e-12)
+    everywhere = GaugeDamage(StressModifiedStrain(0.19, 1.5), np.eye(2))
+    assert everywhere.update(np.array([0.1, 0.1]), stress)[1] == 0.0
+
+
+def test_gauge_damage_counts_only_the_growth_of_the_plastic_strain():
+    """A step without new plastic strain adds nothing; the damage never falls."""
+    damage = GaugeDamage(StressModifiedStrain(0.19, 1.5), np.eye(1))
+    stress = np.array([[SIGMA, 0, 0, 0]])
+    first = damage.update(np.array([0.05]), stress)
+    assert damage.update(np.array([0.05]), -stress) == pytest.approx(first, rel=0)
