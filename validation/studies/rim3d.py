@@ -208,7 +208,7 @@ def rows(results: dict) -> tuple[list[dict], list[dict]]:
     """The table of pushes and the curves' rows from the results (:func:`run`)."""
     table, curves = [], []
     for (t, h, b, kind, width, mesh, model), r in sorted(results.items(), key=lambda kv: (
-            kv[0][6], kv[0][5] != "default", *kv[0][:5])):
+            kv[0][6], kv[0][5] != "default", kv[0][5], *kv[0][:5])):
         strip = results.get((t, h, b, "strip", 0.0, mesh, model))
         depth = math.pi * b / 4  # today's out-of-plane depth (Eq. F1)
         label = kind if kind in ("strip", "cylinder") else f"{kind} {width * 1e3:.0f} mm"
