@@ -217,8 +217,9 @@ def test_validation_run_on_a_damaged_store(tmp_path, capsys):
     assert re.search(r"dfp validate: warning: result store .*results\.sqlite was damaged "
                      r"\(file is not a database\); moved to results\.sqlite\.damaged-", err)
     assert (out / "report.html").exists()
-    with ResultStore(out / "results.sqlite") as store:
-        assert store.count() == 1 and store.check()
+    with ResultStore(out / "results.sqlite") as store:  # the record's task and the rim law
+        assert store.count("rigid-record") == 1 and store.count("rim-law") == 1
+        assert store.count() == 2 and store.check()
 
 
 # --------------------------------------------------------------------------- SIGTERM

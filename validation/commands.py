@@ -303,6 +303,9 @@ def validate(args) -> int:
                          kinematics=args.fem_kinematics,
                          limit_states=tuple(dict.fromkeys(args.limit_state)))
     bearing = tuple(fields.items())
+    if args.rim_model == "ring" and fem is not None and len(fem.limit_states) != 1:
+        raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
+                           "the limit state searched: give one --limit-state per run")
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
         ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
     if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
@@ -403,10 +406,8 @@ def _rekey(revision: str, motions, settings, out: Path) -> None:
 
 def _ring_depth(bearing, limit_states) -> float:
     """The FE rims' depth under ``--rim-model ring``: the ring's effective depth at the one
-    limit state searched (:func:`fem.effective_rim_depth`; it differs between limit states)."""
-    if len(limit_states) != 1:
-        raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
-                           "the limit state searched: give one --limit-state per run")
+    limit state searched, the one of ``limit_states`` (:func:`fem.effective_rim_depth`; it
+    differs between limit states)."""
     from fem import effective_rim_depth
 
     try:
