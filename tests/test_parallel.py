@@ -254,16 +254,18 @@ def test_time_left_after_a_resume_follows_the_searches_still_open():
     assert 0.8 < estimate(50.0) < 1.0
 
 
+def _next_rung(task, result):
+    """A ladder's follow-up: step x up until x² exceeds 20, as the critical-SA search does."""
+    x = task.kwargs["x"]
+    return [] if result["y"] > 20 else [Task(task_key("square", RIGID, x=x + 1), "square",
+                                             _square, {"x": x + 1})]
+
+
 def test_follow_up_tasks_run_until_the_search_stops(tmp_path):
     """A ladder: step x up until x² exceeds 20, as the critical-SA search does."""
     store = ResultStore(tmp_path / "r.sqlite")
 
-    def next_rung(task, result):
-        x = task.kwargs["x"]
-        return [] if result["y"] > 20 else [Task(task_key("square", RIGID, x=x + 1), "square",
-                                                 _square, {"x": x + 1})]
-
-    results = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=next_rung)
+    results = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=_next_rung)
     assert sorted(r["y"] for r in results.values()) == [0, 1, 4, 9, 16, 25]
 
 
@@ -277,19 +279,14 @@ def test_replay_reads_the_store_and_counts_what_is_missing(tmp_path):
     fail if run) is counted by kind, after the stored ones were replayed."""
     store = ResultStore(tmp_path / "r.sqlite")
 
-    def next_rung(task, result):
-        x = task.kwargs["x"]
-        return [] if result["y"] > 20 else [Task(task_key("square", RIGID, x=x + 1), "square",
-                                                 _square, {"x": x + 1})]
-
-    ran = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=next_rung)
-    replayed = run_tasks(_tasks(1), store, progress=False, follow_up=next_rung, replay=True)
+    ran = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=_next_rung)
+    replayed = run_tasks(_tasks(1), store, progress=False, follow_up=_next_rung, replay=True)
     assert replayed == ran and store.count() == 6
     new = [Task(task_key("cube", RIGID, x=x), "cube", _refuse, {"x": x}) for x in (1, 2)]
     seen = []
     with pytest.raises(MissingResultsError, match=r"2 results are not in .*\(cube 2\)") as info:
         run_tasks([*new, *_tasks(1)], store, progress=False, replay=True,
-                  follow_up=lambda t, r: seen.append(t.key) or next_rung(t, r))
+                  follow_up=lambda t, r: seen.append(t.key) or _next_rung(t, r))
     assert info.value.missing == {"cube": 2} and len(seen) == 6 and store.count() == 6
 
 

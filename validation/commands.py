@@ -274,6 +274,7 @@ def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
 
+    from rigid.tasks import MissingResultsError, ResultStore
     from validation.fem_search import FESettings
     from validation.report import write_report
     from validation.run import Settings, run_validation
@@ -309,8 +310,6 @@ def validate(args) -> int:
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
         ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
     if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
-        from rigid.tasks import MissingResultsError, ResultStore
-
         from .stored_rim_laws import keep_rim_laws
 
         try:
@@ -339,8 +338,6 @@ def validate(args) -> int:
           f"{', '.join(f'{p:g}' for p in args.pressure)} MPa{variant}{top} -> {out}")
     start = time.perf_counter()
     progress = None if args.progress else False
-    from rigid.tasks import MissingResultsError
-
     if args.rekey_from:
         _rekey(args.rekey_from, motions, settings, out)
     try:

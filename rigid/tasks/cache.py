@@ -15,7 +15,7 @@ from __future__ import annotations
 import hashlib
 import os
 from functools import cache
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 __all__ = ["MODEL_CODE", "cache_root", "code_hash"]
 
@@ -65,22 +65,53 @@ def cache_root() -> Path:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "dfp-failure"
 
 
-def _files(entry: str) -> list[Path]:
-    """The files of one entry of :data:`MODEL_CODE`; a folder's exclude the sub-folders that
-    are entries of their own (``fem/ring`` is not part of ``fem``)."""
-    path = ROOT / entry
-    if path.is_dir():
-        own = [ROOT / e for codes in MODEL_CODE.values() for e in codes
-               if e != entry and (ROOT / e).is_dir() and (ROOT / e).is_relative_to(path)]
-        return sorted(p for p in path.rglob("*") if p.suffix in (".py", ".geo")
-                      and not any(p.is_relative_to(o) for o in own))
-    return [path]
+def _select(entry: str, paths) -> list[PurePosixPath]:
+    """The files of one entry of :data:`MODEL_CODE` among ``paths`` (relative to :data:`ROOT`):
+    the file itself, or a folder's ``.py`` and ``.geo`` files less the sub-folders that are
+    entries of their own (``fem/ring`` is not part of ``fem``), in a fixed order."""
+    top = PurePosixPath(entry)
+    if top in paths:
+        return [top]
+    own = [PurePosixPath(e) for codes in MODEL_CODE.values() for e in codes
+           if e != entry and PurePosixPath(e).is_relative_to(top)
+           and PurePosixPath(e) not in paths]  # folders: entries that are no file
+    return sorted(p for p in paths if p.is_relative_to(top) and p.suffix in (".py", ".geo")
+                  and not any(p.is_relative_to(o) for o in own))
+
+
+def digest(models, paths, read) -> str:
+    """SHA-256 of the source of ``models`` (keys of :data:`MODEL_CODE`), file names included:
+    their files among ``paths`` (relative to :data:`ROOT`), each read by ``read(path)`` →
+    bytes. :func:`code_hash` reads the work tree; :mod:`rigid.tasks.rekey` a git revision."""
+    paths = set(paths)
+    h = hashlib.sha256()
+    for model in sorted(set(models)):
+        for entry in MODEL_CODE[model]:
+            for path in _select(entry, paths):
+                h.update(str(path).encode())
+                h.update(read(path))
+    return h.hexdigest()
+
+
+def _work_tree(models) -> set:
+    """The files below the models' entries in the work tree, relative to :data:`ROOT` (an
+    entry that is no folder as itself)."""
+    found = set()
+    for model in models:
+        for entry in MODEL_CODE[model]:
+            path = ROOT / entry
+            if path.is_dir():
+                found.update(PurePosixPath(p.relative_to(ROOT).as_posix())
+                             for p in path.rglob("*") if p.is_file())
+            else:
+                found.add(PurePosixPath(entry))
+    return found
 
 
 @cache
 def code_hash(*models: str) -> str:
     """SHA-256 of the source of the named models (keys of :data:`MODEL_CODE`), file names
-    included, in a fixed order.
+    included, in a fixed order (:func:`digest` of the work tree).
 
     Parameters
     ----------
@@ -90,10 +121,4 @@ def code_hash(*models: str) -> str:
     unknown = [m for m in models if m not in MODEL_CODE]
     if unknown or not models:
         raise ValueError(f"unknown model {unknown}; expected some of {sorted(MODEL_CODE)}")
-    h = hashlib.sha256()
-    for model in sorted(set(models)):
-        for entry in MODEL_CODE[model]:
-            for path in _files(entry):
-                h.update(str(path.relative_to(ROOT)).encode())
-                h.update(path.read_bytes())
-    return h.hexdigest()
+    return digest(models, _work_tree(models), lambda path: (ROOT / path).read_bytes())

@@ -13,7 +13,6 @@ code, are out of its reach: they are asked for under other keys and stay missing
 
 from __future__ import annotations
 
-import hashlib
 import json
 import subprocess
 from collections.abc import Callable
@@ -45,26 +44,11 @@ def _git(*args: str) -> bytes:
 
 
 def _hash_at(revision: str, models: tuple[str, ...]) -> str:
-    """:func:`.cache.code_hash` of the models' source at ``revision`` (the same files, names
-    and order as in the work tree)."""
-    entries = {e for codes in cache.MODEL_CODE.values() for e in codes}
+    """:func:`.cache.code_hash` of the models' source at ``revision``: the same
+    :func:`.cache.digest` of the files git lists there."""
     listed = _git("ls-tree", "-r", "--name-only", revision).decode().splitlines()
-    h = hashlib.sha256()
-    for model in sorted(set(models)):
-        for entry in cache.MODEL_CODE[model]:
-            if entry in listed:
-                files = [PurePosixPath(entry)]
-            else:  # a folder: its .py and .geo files, less the sub-folders of other entries
-                own = [PurePosixPath(e) for e in entries if e != entry
-                       and PurePosixPath(e).is_relative_to(entry) and e not in listed]
-                files = sorted(PurePosixPath(p) for p in listed
-                               if PurePosixPath(p).is_relative_to(entry)
-                               and PurePosixPath(p).suffix in (".py", ".geo")
-                               and not any(PurePosixPath(p).is_relative_to(o) for o in own))
-            for path in files:
-                h.update(str(path).encode())
-                h.update(_git("show", f"{revision}:{path}"))
-    return h.hexdigest()
+    return cache.digest(models, map(PurePosixPath, listed),
+                        lambda path: _git("show", f"{revision}:{path}"))
 
 
 @contextmanager
