@@ -18,7 +18,9 @@ kept while any rim contact is active; a step that changes the energy-balance res
 Energy per unit depth is recorded every step (Eqs. F29–F31): the input work, kinetic energy,
 material work split into elastic strain energy and plastic dissipation, the penalty springs'
 energy and the friction work; their residual is HHT's algorithmic dissipation plus the
-trapezoidal error of the work sums.
+trapezoidal error of the work sums. With a :class:`fem.fracture.RimFracture`, the elements it
+tears let go between steps, and the strain and penalty energy they release is booked as
+``fracture`` (Eq. F69).
 """
 
 from __future__ import annotations
@@ -108,12 +110,14 @@ class Energy:
     plastic: list = field(default_factory=list)
     contact: list = field(default_factory=list)  # penalty springs
     friction: list = field(default_factory=list)
+    fracture: list = field(default_factory=list)  # released by torn elements (Eq. F69)
 
     def arrays(self) -> dict:
         """The histories as numpy arrays, plus ``residual`` = input − all the others."""
         out = {k: np.asarray(v) for k, v in self.__dict__.items()}
         out["residual"] = out["input"] - (
             out["kinetic"] + out["strain"] + out["plastic"] + out["contact"] + out["friction"]
+            + out["fracture"]
         )
         return out
 
@@ -196,6 +200,8 @@ class Integrator:
     control : StepControl
     rim_mask : ndarray of bool, optional
         Slave nodes that belong to a rim (for the impact step control).
+    fracture : fem.fracture.RimFracture, optional
+        Updated after every accepted step; the elements it tears let go (Eq. F68).
     """
 
     model: object
@@ -203,6 +209,7 @@ class Integrator:
     hht: HHTParameters = field(default_factory=HHTParameters)
     control: StepControl = field(default_factory=StepControl)
     rim_mask: np.ndarray | None = None
+    fracture: object = None
 
     def __post_init__(self):
         m = self.model
@@ -331,6 +338,7 @@ class Integrator:
         ekin = residual = 0.0
         strain0 = self.system.strain_energy(ev)
         cont0 = ev.contact.normal_energy
+        self.released = [0.0, 0.0]  # strain and penalty energy of torn elements [J/m]
         times = [t_start]
         self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
         stopped = False
@@ -370,7 +378,7 @@ class Integrator:
             # residual = input − kinetic − (strain + plastic) − contact − friction (Eqs.
             # F29–F31)
             residual_new = (w_ext_new - ekin_new - w_mat_new - (con.normal_energy - cont0)
-                            - w_fric_new)
+                            - w_fric_new - self.released[1])
             if abs(residual_new - residual) > ctl.energy_tol and h > ctl.impact_step / 8:
                 self.rejected += 1
                 h *= 0.5
@@ -382,6 +390,8 @@ class Integrator:
             t += h
             self.steps += 1
             times.append(t)
+            if self.fracture is not None:
+                ev, f_int, f_mat = self._tear(t, d, ev, state, f_int, f_mat)
             self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
             if self.rim_mask is not None:
                 rim_active = bool(ev.contact.active[self.rim_mask].any())
@@ -398,12 +408,28 @@ class Integrator:
             failed_numerically=failed, message=message, d=d, v=v, state=state,
         )
 
+    def _tear(self, t, d, ev, state, f_int, f_mat):
+        """After an accepted step: update the fracture; if elements let go further (Eq. F68),
+        re-evaluate at the same configuration, book what they released (Eq. F69), and return
+        the new evaluation and reduced internal and material forces."""
+        sysm = self.system
+        if not self.fracture.update(t, state.material.eq_plastic_strain, ev.material.stress):
+            return ev, f_int, f_mat
+        strain, penalty = sysm.strain_energy(ev), ev.contact.normal_energy
+        sysm.erode(self.fracture.retained)
+        ev = sysm.evaluate(self.red.expand(d), state)
+        self.released[0] += strain - sysm.strain_energy(ev)
+        self.released[1] += penalty - ev.contact.normal_energy
+        self.solver.thaw()  # the frozen tangents of Eq. F35a may have let go
+        return ev, self.red.reduce(ev.internal_force), self.red.reduce(ev.material_force)
+
     def _record(self, energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0):
         strain = self.system.strain_energy(ev) - strain0
         contact = ev.contact.normal_energy - cont0
         energy.input.append(w_ext)
         energy.kinetic.append(ekin)
         energy.strain.append(strain)
-        energy.plastic.append(w_mat - strain)
+        energy.plastic.append(w_mat - strain - self.released[0])
         energy.contact.append(contact)
         energy.friction.append(w_fric)
+        energy.fracture.append(sum(self.released))

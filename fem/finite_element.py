@@ -44,6 +44,8 @@ class FiniteEvaluation(NamedTuple):
         J̄ of each point's element.
     start : fem.hencky.FiniteState
         The converged history the update started from (the tangent needs it).
+    weights : ndarray, shape (nelems, nqp) [m²]
+        The integration weights used: ``dx`` times what each element retains (Eq. F68).
     """
 
     stress: np.ndarray
@@ -53,6 +55,7 @@ class FiniteEvaluation(NamedTuple):
     gradient: np.ndarray
     mean_dilatation: np.ndarray
     start: hencky.FiniteState
+    weights: np.ndarray
 
 
 class FiniteStrainQ1(PlaneStrainQ1):
@@ -72,6 +75,9 @@ class FiniteStrainQ1(PlaneStrainQ1):
     """
 
     kinematics = "finite"
+    #: Fraction of its stiffness and stress each element keeps (nelems,), or None: all of
+    #: them (torn rim elements let go: :class:`fem.fracture.RimFracture`, Eq. F68).
+    retained = None
 
     def __init__(self, mesh, intorder: int = 2, thickness=None):
         super().__init__(mesh, bbar=True, intorder=intorder, thickness=thickness)
@@ -107,18 +113,35 @@ class FiniteStrainQ1(PlaneStrainQ1):
             if any element is inverted, J ≤ 0, which Newton treats as divergence).
         """
         F, J, jbar = self.deformation(u)
+        weights = self.dx
+        inverted = (J <= 0.0).any(axis=1)
+        if self.retained is not None:
+            # an element letting go (Eq. F68) may invert: it is then gone, as is one that has
+            # let go altogether; both are evaluated undeformed (finite numbers), with no weight
+            letting_go = self.retained < 1.0
+            gone = (letting_go & inverted) | (self.retained == 0.0)
+            weights = self.dx * np.where(gone, 0.0, self.retained)[:, None]
+            if gone.any():
+                F[:, :, gone] = np.eye(2)[:, :, None, None]
+                jbar = np.array(jbar)
+                jbar[gone] = 1.0
+            inverted &= ~letting_go
         res = hencky.update(material, F, jbar, state)
-        force = self._GmatT @ (res.first_piola.reshape(4, *self.dx.shape) * self.dx).ravel()
-        if not (J > 0.0).all():  # an inverted element is no deformation: mark the iterate
+        force = self._GmatT @ (res.first_piola.reshape(4, *self.dx.shape) * weights).ravel()
+        if inverted.any():  # an inverted element is no deformation: mark the iterate
             force[:] = np.nan  # invalid, so that Newton rejects it (and the step is cut)
-        ev = FiniteEvaluation(res.cauchy, res.kirchhoff, res.state, res.plastic, F, jbar, state)
+        ev = FiniteEvaluation(res.cauchy, res.kirchhoff, res.state, res.plastic, F, jbar, state,
+                              weights)
         return ev, force
 
     def active_elements(self, ev: FiniteEvaluation) -> np.ndarray:
-        """Elements whose tangent is not the small-strain elastic one: any point yields, or
-        the displacement gradient exceeds :data:`ACTIVE_GRADIENT`."""
+        """Elements whose tangent is not the small-strain elastic one: any point yields, the
+        displacement gradient exceeds :data:`ACTIVE_GRADIENT`, or the element lets go (Eq.
+        F68)."""
         H = ev.gradient - np.eye(2)[:, :, None, None]
         big = np.sqrt((H * H).sum(axis=(0, 1))).max(axis=1) > ACTIVE_GRADIENT
+        if self.retained is not None:
+            big |= self.retained < 1.0
         return np.flatnonzero(big | ev.plastic.any(axis=1))
 
     def element_tangent(self, material: Material, ev: FiniteEvaluation,
@@ -135,13 +158,14 @@ class FiniteStrainQ1(PlaneStrainQ1):
         jbar = ev.mean_dilatation[e]
         start = hencky.FiniteState(ev.start.elastic_inverse[:, e], ev.start.eq_plastic_strain[e])
         A, AJ = hencky.tangent(material, F, jbar, start)  # (4, 4, m, nqp), (4, m, nqp)
-        w = self.dx[e]  # (m, nqp)
+        w = ev.weights[e]  # (m, nqp)
         Gt = self._Gt[e]  # (m, nqp, 4, 8)
         AG = np.matmul(A.transpose(2, 3, 0, 1), Gt)  # (m, nqp, 4, 8)
         K = np.einsum("mqia,mqib,mq->mab", Gt, AG, w)
         p_j = np.einsum("mqia,imq,mq->ma", Gt, AJ, w)
         Finv_T = np.stack([F[1, 1], -F[1, 0], -F[0, 1], F[0, 0]])  # J F⁻ᵀ, order [11 12 21 22]
-        g_j = np.einsum("mqia,imq,mq->ma", Gt, Finv_T, w) / self.volume[e][:, None]
+        # ∂J̄/∂u: J̄ is a mean over the element's whole volume, whatever it retains
+        g_j = np.einsum("mqia,imq,mq->ma", Gt, Finv_T, self.dx[e]) / self.volume[e][:, None]
         return K + p_j[:, :, None] * g_j[:, None, :]
 
     def finite_stiffness(self, material: Material, ev: FiniteEvaluation) -> sp.csr_matrix:
@@ -155,4 +179,4 @@ class FiniteStrainQ1(PlaneStrainQ1):
         compliance = np.linalg.inv(material.elastic_tangent())
         tau = ev.kirchhoff
         density = 0.5 * np.einsum("ieq,ij,jeq->eq", tau, compliance, tau)
-        return float((density * self.dx).sum())
+        return float((density * ev.weights).sum())

@@ -70,6 +70,9 @@ class LimitStates:
         Geometry, ``rupture_strain`` and ``rim_thickness`` (the averaging gauge).
     model : fem.dfp.DFPSystem
         Mesh, system and the rim-root rows.
+    fracture : fem.fracture.RimFracture, optional
+        Rupture is then the first element it tears (Eq. F67) instead of the gauge strain's
+        reaching the rupture strain (Eq. F51).
 
     Attributes
     ----------
@@ -82,8 +85,9 @@ class LimitStates:
         that held), and what happened.
     """
 
-    def __init__(self, bearing, model):
+    def __init__(self, bearing, model, fracture=None):
         self.bearing = bearing
+        self.fracture = fracture
         self.system = model.system
         mesh = model.mesh
         self.roots = [model.rim_roots[k] for k in RIMS]
@@ -126,9 +130,13 @@ class LimitStates:
                     self.times["hinge"], self.hinge_rim = t, RIMS[k]
         regular = self.regularised_strain(p)
         if self.times["rupture"] is None:
-            k = int(np.argmax(regular))
-            if regular[k] >= self.bearing.rupture_strain:
-                self.times["rupture"], self.rupture_rim = t, RIMS[k]
+            if self.fracture is not None:
+                if self.fracture.first_tear is not None:
+                    self.times["rupture"], self.rupture_rim = self.fracture.first_tear
+            else:
+                k = int(np.argmax(regular))
+                if regular[k] >= self.bearing.rupture_strain:
+                    self.times["rupture"], self.rupture_rim = t, RIMS[k]
         if self.times["containment"] is None:
             mode, detail = self._containment(d, pose)
             if mode is not None:
@@ -182,6 +190,10 @@ class LimitStates:
             return True, t_c, self.mode, self.detail
         if limit_state == "hinge":
             return True, t, "yielding", f"plastic hinge across the root of the {self.hinge_rim} rim"
+        if self.fracture is not None:
+            return True, t, "yielding", (
+                f"the {self.rupture_rim} rim tore: the ductile damage of an element (exponent "
+                f"c = {self.fracture.criterion.exponent:g}) reached 1")
         return True, t, "yielding", (
             f"the {self.rupture_rim} rim ruptured: its plastic strain over a gauge of the rim "
             f"thickness reached {self.bearing.rupture_strain:.3g}")

@@ -34,6 +34,9 @@ class FEEnergy(Mapping):
     input, kinetic, strain, plastic, contact, friction : ndarray [J]
         Work of the ground motion, kinetic energy, elastic strain energy, plastic
         dissipation, the penalty springs' energy, friction work.
+    fracture : ndarray [J]
+        Strain and penalty energy released by torn rim elements as they let go (Eq. F69; 0
+        without ``fracture``).
     residual : ndarray [J]
         input − all the others: HHT's algorithmic dissipation plus the work sums' error.
     """
@@ -44,6 +47,7 @@ class FEEnergy(Mapping):
     plastic: np.ndarray
     contact: np.ndarray
     friction: np.ndarray
+    fracture: np.ndarray
     residual: np.ndarray
 
     def __getitem__(self, key: str) -> np.ndarray:
@@ -129,6 +133,14 @@ class FEMResult:
     mesh : skfem.MeshQuad1
     edge_radius : float [m]
         Radius of the slider's rounded edges in the run (0: sharp).
+    rim_damage : ndarray, shape (nt, 4) [-]
+        With ``fracture``: the largest ductile damage of an element of each rim (Eq. F67);
+        an empty array without.
+    torn_elements : dict
+        With ``fracture``: element → (time [s], rim) at which it tore, in that order.
+    retained : ndarray, shape (nelems,) [-] or None
+        With ``fracture``: the fraction of its stiffness each element keeps at the end (0:
+        eroded; Eq. F68).
     """
 
     time: np.ndarray
@@ -167,6 +179,9 @@ class FEMResult:
     bearing: DFPBearing
     mesh: object = field(repr=False)
     edge_radius: float = 0.0
+    rim_damage: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)), repr=False)
+    torn_elements: dict = field(default_factory=dict)
+    retained: np.ndarray | None = field(default=None, repr=False)
 
     failure_criterion = deprecated_attribute("failure_criterion")
 
@@ -216,6 +231,8 @@ def simulate(
     energy_tolerance: float = 1e-3,
     edge_radius: float = 0.0,
     rim_depth: float | None = None,
+    fracture=None,
+    erosion_steps: int = 10,
     cache_dir=None,
 ) -> FEMResult:
     """Run the plane-strain FE model of the DFP bearing on a horizontal ground acceleration.
@@ -278,6 +295,16 @@ def simulate(
         Out-of-plane depth of the rims' steel instead of the model's πb/4: the 3-D rim's
         effective depth at the limit state checked (:func:`fem.effective_rim_depth`; Eq.
         F59).
+    fracture : {"low", "median", "high"} or fem.fracture.StressModifiedStrain, optional
+        Let the rims tear: ductile damage along the strain path with a critical strain that
+        falls with the stress triaxiality (docs/theory/finite-elements.md, "Rim fracture",
+        Eqs. F62–F69; the named sets: :data:`fem.fracture.FRACTURE_SETS`, anchored at the
+        bearing's ``rupture_strain``). Rupture is then the first torn element, and torn
+        elements let go. Default None: the uniaxial rupture of Eq. F51, nothing tears.
+    erosion_steps : int
+        With ``fracture``: the accepted steps over which a torn element lets go of its
+        stress and stiffness (Eq. F68); 0 tracks the damage and tears nothing. Needs
+        ``kinematics="finite"`` when positive.
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -309,7 +336,8 @@ def simulate(
     red, depth = model.reduction, model.depth
     rim_of = rim_of_nodes(model)
     rim_mask = rim_of >= 0
-    watch = LimitStates(bearing, model)
+    tearing = _rim_fracture(fracture, erosion_steps, bearing, model, kinematics)
+    watch = LimitStates(bearing, model, fracture=tearing)
     observer = Observer(
         model=model, rim_of=rim_of, watch=watch, limit_state=limit_state,
         stop_at_failure=stop_at_failure, snapshot_every=snapshot_every, first_step=max_step,
@@ -323,11 +351,32 @@ def simulate(
             max_step=max_step, impact_step=impact_step,
             energy_tol=energy_tolerance * bearing.weight / depth * bearing.rim_height,
         ),
-        rim_mask=rim_mask,
+        rim_mask=rim_mask, fracture=tearing,
     )
     out = integ.run(duration, observer)
     return _result(bearing, model, integ, out, observer, limit_state=limit_state,
                    kinematics=kinematics, edge_radius=edge_radius, wall0=wall0)
+
+
+def _rim_fracture(fracture, erosion_steps, bearing, model, kinematics):
+    """The :class:`fem.fracture.RimFracture` of a run, or None without ``fracture``."""
+    from .fracture import FRACTURE_SETS, RimFracture, StressModifiedStrain
+
+    if fracture is None:
+        return None
+    if isinstance(fracture, str):
+        if fracture not in FRACTURE_SETS:
+            raise ValueError(f"fracture must be one of {', '.join(FRACTURE_SETS)} or a "
+                             f"StressModifiedStrain, got {fracture!r}")
+        fracture = FRACTURE_SETS[fracture](rupture_strain=bearing.rupture_strain)
+    if not isinstance(fracture, StressModifiedStrain):
+        raise TypeError(f"fracture must be a set's name or a StressModifiedStrain, got "
+                        f"{type(fracture).__name__}")
+    if erosion_steps and kinematics != "finite":
+        raise ValueError("torn elements let go only with kinematics='finite' (or pass "
+                         "erosion_steps=0 to track the damage alone)")
+    return RimFracture(fracture, model.system.fe, model.mesh, bearing.rim_thickness,
+                       steps=erosion_steps)
 
 
 def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, edge_radius,
@@ -384,4 +433,7 @@ def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, ed
         bearing=bearing,
         mesh=mesh,
         edge_radius=edge_radius,
+        rim_damage=h.damage if h.damage.size else np.zeros((0, 4)),
+        torn_elements=dict(watch.fracture.torn) if watch.fracture is not None else {},
+        retained=None if watch.fracture is None else watch.fracture.retained.copy(),
     )

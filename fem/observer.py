@@ -46,7 +46,8 @@ class History:
     bearing, i.e. times the depth): time ``t``, top plate ``x`` and rise ``z``, slider ``xs``,
     rise ``zs`` and rotation ``th``, base ``shear``, ``dish`` forces (bottom, top), ``rim``
     forces (:data:`RIMS` order), the rims' root plastic strain ``root_p``, yielded fraction
-    ``root_frac`` and gauge-averaged (``regular``) plastic strain."""
+    ``root_frac`` and gauge-averaged (``regular``) plastic strain, and with fracture the
+    rims' largest element ``damage`` (Eq. F67)."""
 
     t: list = field(default_factory=list)
     x: list = field(default_factory=list)
@@ -60,6 +61,7 @@ class History:
     root_p: list = field(default_factory=list)
     root_frac: list = field(default_factory=list)
     regular: list = field(default_factory=list)
+    damage: list = field(default_factory=list)
 
     def arrays(self) -> History:
         """The same histories as numpy arrays."""
@@ -129,6 +131,8 @@ class Observer:
         hist.root_p.append(root_p)
         hist.root_frac.append(frac)
         hist.regular.append(regular)
+        if self.watch.fracture is not None:
+            hist.damage.append(list(self.watch.fracture.rim_damage))
         if self.snapshot_every and (len(hist.t) - 1) % self.snapshot_every == 0:
             self.snapshots.append((t, d.copy(), p.copy(), ev.material.stress.copy()))
         return self._judge(t, regular)

@@ -13,7 +13,7 @@ column, so ``K_red = Pᵀ K P``, ``r_red = Pᵀ r`` and a lumped mass stays diag
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -117,6 +117,23 @@ class CoupledSystem:
             self.shape, self.reference, self.pose, adjust=self.adjust
         )
         self.initial_contact = cstate
+        self._intact_nodes = self.nodes
+
+    def erode(self, retained: np.ndarray) -> None:
+        """Let the elements keep the fractions ``retained`` (nelems,) [-] of their stiffness
+        and stress (Eq. F68, finite kinematics); a contact node keeps the largest fraction
+        among its elements of its tributary length, so that a torn rim's surface leaves the
+        contact (its nodes are gone when all their elements are)."""
+        if not self.finite:
+            raise ValueError("erosion needs finite kinematics")
+        retained = np.asarray(retained, dtype=float)
+        self.fe.retained = retained
+        t = self.fe.mesh.t
+        keep = np.zeros(self.fe.mesh.p.shape[1])
+        for corner in t:  # a vertex keeps the most that any of its elements keeps
+            np.maximum.at(keep, corner, retained)
+        nodes = self._intact_nodes
+        self.nodes = replace(nodes, length=nodes.length * keep[nodes.nodes])
 
     def initial_state(self) -> State:
         """Virgin material and friction history."""

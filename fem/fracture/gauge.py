@@ -37,14 +37,23 @@ class GaugeDamage:
         self.damage = np.zeros(operator.shape[0])
         self._plastic_strain = np.zeros(operator.shape[1])
 
-    def update(self, plastic_strain, stress) -> np.ndarray:
+    def update(self, plastic_strain, stress, intact=None) -> np.ndarray:
         """Add the step that brought the rim's points to ``plastic_strain`` [-] (n) under
-        Mandel ``stress`` (n, 4) [Pa]; return the damage at the m gauge points."""
+        Mandel ``stress`` (n, 4) [Pa]; return the damage at the m gauge points.
+
+        ``intact`` (n bools, optional) leaves out the points of torn elements: their strain
+        adds nothing, and the averages are taken over the intact points alone (Eq. F67)."""
         p = np.asarray(plastic_strain, dtype=float)
         dp = np.maximum(p - self._plastic_strain, 0.0)
         self._plastic_strain = p.copy()
-        mean_dp = self.operator @ dp
-        weighted = self.operator @ (triaxiality(stress) * dp)
+        share = 1.0
+        if intact is not None:
+            keep = np.asarray(intact, dtype=float)
+            dp = dp * keep
+            share = self.operator @ keep  # the intact fraction of each gauge
+            share = np.where(share > 0.0, share, np.inf)  # a gauge wholly torn: no growth
+        mean_dp = (self.operator @ dp) / share
+        weighted = (self.operator @ (triaxiality(stress) * dp)) / share
         with np.errstate(invalid="ignore", divide="ignore"):
             mean_t = np.where(mean_dp > 0.0, weighted / np.where(mean_dp > 0, mean_dp, 1.0),
                               0.0)

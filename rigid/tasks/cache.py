@@ -40,12 +40,11 @@ MODEL_CODE = {
     "collapse": ("rigid/collapse",),
     # the trimming of scaled records alone (what an FE run of the validation uses of it)
     "trimming": ("rigid/collapse/trimming.py",),
-    # the FE companion and its geometry (not its 3-D rim pushes, fem/ring: below)
+    # the FE companion and its geometry, the rims' fracture included (not its 3-D rim pushes,
+    # fem/ring: below)
     "fem": ("fem", "meshes"),
     # the 3-D static pushes of the rim as a ring
     "fem-ring": ("fem/ring",),
-    # the rim steel's ductile fracture: criterion and damage (not yet part of an FE run)
-    "fem-fracture": ("fem/fracture",),
     # one FE run of the validation: trimming and the end-of-run energy check
     "fem-run": ("validation/fem_runs.py",),
     # one FE run of a Ricker pulse (the yielding-rims study)

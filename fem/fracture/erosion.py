@@ -1,0 +1,93 @@
+r"""The rims tear: damage per rim after every accepted step of an FE run, and the erosion of
+the elements it tears (docs/theory/finite-elements.md, "Rim fracture", Eqs. F66–F68).
+
+    fracture = RimFracture(criterion, fe, mesh, steps=10)   # criterion: StressModifiedStrain
+    if fracture.update(t, plastic_strain, stress):          # after an accepted step
+        system.erode(fracture.retained)                     # fem.system.CoupledSystem
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .criterion import StressModifiedStrain
+from .gauge import GaugeDamage
+
+__all__ = ["RimFracture"]
+
+
+class RimFracture:
+    """Ductile damage of the four rims and the erosion of their torn elements.
+
+    Each rim's damage is accumulated over a gauge of the rim thickness (Eq. F66) at its
+    quadrature points; an element tears when the largest damage of its points reaches 1
+    (Eq. F67) and then keeps 1 − k/N of its stiffness and stress k accepted steps later, N =
+    ``steps``, until none is left (Eq. F68). Torn elements add no strain to the gauges.
+
+    Parameters
+    ----------
+    criterion : StressModifiedStrain
+    fe : fem.assembly.PlaneStrainQ1
+        The plates' element (its quadrature points and weights).
+    mesh : skfem.MeshQuad1
+        With the ``bottom_rim`` and ``top_rim`` subdomains.
+    gauge : float [m]
+        Diameter of the averaging disc: the rim thickness (Eq. F52).
+    steps : int
+        N, the accepted steps over which a torn element lets go; 0 tracks the damage and
+        tears nothing (static comparisons, today's runs).
+
+    Attributes
+    ----------
+    retained : ndarray, shape (nelems,) [-]
+        Fraction of its stiffness and stress each element keeps.
+    torn : dict
+        Element → (time [s], rim) at which it tore, in the order they tore.
+    rim_damage : list of float
+        Largest element damage of each rim (``fem.limit_states.RIMS`` order) after the last
+        update.
+    """
+
+    def __init__(self, criterion: StressModifiedStrain, fe, mesh, gauge: float,
+                 steps: int = 10):
+        from fem.limit_states import RIMS, rim_gauge_average
+
+        if int(steps) != steps or steps < 0:
+            raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+        self.criterion = criterion
+        self.steps = int(steps)
+        self.rims = RIMS
+        self.nqp = fe.dx.shape[1]
+        self.elements, self.gauges = [], []
+        for name in RIMS:
+            elems, operator = rim_gauge_average(fe, mesh, name, gauge)
+            self.elements.append(elems)
+            self.gauges.append(GaugeDamage(criterion, operator))
+        self.retained = np.ones(fe.dx.shape[0])
+        self.torn: dict = {}
+        self.rim_damage = [0.0] * len(RIMS)
+
+    @property
+    def first_tear(self):
+        """(time [s], rim) of the first element that tore, or None."""
+        return next(iter(self.torn.values()), None)
+
+    def update(self, t: float, plastic_strain: np.ndarray, stress: np.ndarray) -> bool:
+        """Add an accepted step at time t [s]: equivalent plastic strain (nelems, nqp) [-],
+        Mandel stress (4, nelems, nqp) [Pa]. Returns whether :attr:`retained` changed."""
+        before = self.retained.copy()
+        if self.steps:  # the elements already letting go lose another 1/N (Eq. F68)
+            going = self.retained < 1.0
+            self.retained[going] = np.maximum(self.retained[going] - 1.0 / self.steps, 0.0)
+        for k, (elems, gauge) in enumerate(zip(self.elements, self.gauges, strict=True)):
+            intact = np.repeat(before[elems] == 1.0, self.nqp)
+            points = (plastic_strain[elems].ravel(),
+                      stress[:, elems].reshape(4, -1).T)
+            damage = gauge.update(*points, intact=intact).reshape(elems.size, self.nqp)
+            element = damage.max(axis=1)  # Eq. F67
+            self.rim_damage[k] = float(element.max()) if element.size else 0.0
+            for e in elems[(element >= 1.0) & (before[elems] == 1.0)]:
+                self.torn.setdefault(int(e), (t, self.rims[k]))
+                if self.steps:
+                    self.retained[e] = 1.0 - 1.0 / self.steps
+        return bool((self.retained != before).any())
