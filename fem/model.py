@@ -295,7 +295,7 @@ def simulate(
         Out-of-plane depth of the rims' steel instead of the model's πb/4: the 3-D rim's
         effective depth at the limit state checked (:func:`fem.effective_rim_depth`; Eq.
         F59).
-    fracture : {"low", "median", "high"} or fem.fracture.StressModifiedStrain, optional
+    fracture : {"steep", "median", "mild"} or fem.fracture.StressModifiedStrain, optional
         Let the rims tear: ductile damage along the strain path with a critical strain that
         falls with the stress triaxiality (docs/theory/finite-elements.md, "Rim fracture",
         Eqs. F62–F69; the named sets: :data:`fem.fracture.FRACTURE_SETS`, anchored at the
@@ -360,18 +360,11 @@ def simulate(
 
 def _rim_fracture(fracture, erosion_steps, bearing, model, kinematics):
     """The :class:`fem.fracture.RimFracture` of a run, or None without ``fracture``."""
-    from .fracture import FRACTURE_SETS, RimFracture, StressModifiedStrain
+    from .fracture import RimFracture, criterion_of
 
     if fracture is None:
         return None
-    if isinstance(fracture, str):
-        if fracture not in FRACTURE_SETS:
-            raise ValueError(f"fracture must be one of {', '.join(FRACTURE_SETS)} or a "
-                             f"StressModifiedStrain, got {fracture!r}")
-        fracture = FRACTURE_SETS[fracture](rupture_strain=bearing.rupture_strain)
-    if not isinstance(fracture, StressModifiedStrain):
-        raise TypeError(f"fracture must be a set's name or a StressModifiedStrain, got "
-                        f"{type(fracture).__name__}")
+    fracture = criterion_of(fracture, bearing.rupture_strain)
     if erosion_steps and kinematics != "finite":
         raise ValueError("torn elements let go only with kinematics='finite' (or pass "
                          "erosion_steps=0 to track the damage alone)")

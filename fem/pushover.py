@@ -9,7 +9,7 @@ check with CalculiX, ``validation/studies/rim_pushover_ccx.py``)."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -69,6 +69,15 @@ class Pushover:
         Nodal displacements at the last step (plate dofs).
     final_plastic_strain : ndarray [-]
         Equivalent plastic strain at the quadrature points (elements, points) at the last step.
+    damage : ndarray [-]
+        With ``fracture``: the largest ductile damage of an element of the pushed rim at each
+        step (Eqs. F66–F67); an empty array without.
+    triaxiality : ndarray [-]
+        With ``fracture``: the gauge's triaxiality T̄ at the most damaged point at each step
+        (Eq. F66).
+    fracture_displacement, fracture_force : float or None [m, N]
+        With ``fracture``: at the first step at which an element's damage reached 1 (the
+        tear begins; nothing is let go in a static push).
     """
 
     displacement: np.ndarray
@@ -83,6 +92,10 @@ class Pushover:
     plate: BottomPlate
     final_displacement: np.ndarray
     final_plastic_strain: np.ndarray
+    damage: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    triaxiality: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    fracture_displacement: float | None = None
+    fracture_force: float | None = None
 
 
 def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
@@ -119,7 +132,7 @@ def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
 def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
                  displacement: float | None = None, steps: int = 40,
                  mesh_options: dict | None = None, plasticity: bool = True,
-                 cache_dir=None) -> Pushover:
+                 fracture=None, stop_short: bool = False, cache_dir=None) -> Pushover:
     """Push the +x bottom rim outward by a uniform horizontal displacement of the upper half of
     its inner face.
 
@@ -141,6 +154,12 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         :func:`fem.geometry.build_mesh` sizes [m].
     plasticity : bool
         False keeps the steel elastic.
+    fracture : {"steep", "median", "mild"} or fem.fracture.StressModifiedStrain, optional
+        Track the pushed rim's ductile damage (as :func:`fem.simulate` does) and record where
+        it first tears; nothing is let go.
+    stop_short : bool
+        Where Newton fails even with tiny increments, return the push as far as it went
+        (its ``displacement[-1]`` short of the final δ) instead of raising RuntimeError.
     cache_dir : path-like, optional
         Mesh cache.
 
@@ -172,8 +191,15 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     state = (FiniteState if kinematics == "finite" else MaterialState).virgin(fe.point_shape)
     u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
     rim, average = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
-    out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0]}
-    hinge = None
+    out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0], "damage": [0.0],
+           "triax": [0.0]}
+    hinge = tear = None
+    tracker = None
+    if fracture is not None:
+        from .fracture import RimFracture, criterion_of
+
+        tracker = RimFracture(criterion_of(fracture, bearing.rupture_strain), fe, plate.mesh,
+                              bearing.rim_thickness, steps=0, rims=("bottom +x",))
     delta, h = 0.0, delta_end / steps
     while delta < delta_end * (1 - 1e-12):
         target = min(delta + h, delta_end)
@@ -182,6 +208,8 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         if not res.converged:  # cut the increment back
             h *= 0.5
             if h < 1e-6 * delta_end:
+                if stop_short:
+                    break
                 raise RuntimeError(f"rim push: Newton did not converge beyond δ = {delta:.4g} m "
                                    f"even with increments of {h:.2g} m")
             continue
@@ -198,6 +226,12 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         out["avg"].append(float((average @ p[rim].ravel()).max()))
         if hinge is None and frac >= 1.0:
             hinge = (delta, force)
+        if tracker is not None:
+            tracker.update(delta, p, res.stress)
+            out["damage"].append(tracker.rim_damage[0])
+            out["triax"].append(tracker.rim_triaxiality[0])
+            if tear is None and tracker.first_tear is not None:
+                tear = (delta, force)
     return Pushover(
         displacement=np.array(out["d"]), force=np.array(out["f"]),
         yielded_fraction=np.array(out["frac"]),
@@ -206,4 +240,8 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         max_plastic_strain=np.array(out["p"]),
         averaged_plastic_strain=np.array(out["avg"]), kinematics=kinematics, dofs=fe.ndofs,
         plate=plate, final_displacement=u, final_plastic_strain=state.eq_plastic_strain,
+        damage=np.array(out["damage"]) if tracker is not None else np.zeros(0),
+        triaxiality=np.array(out["triax"]) if tracker is not None else np.zeros(0),
+        fracture_displacement=None if tear is None else tear[0],
+        fracture_force=None if tear is None else tear[1],
     )

@@ -77,13 +77,13 @@ def test_damage_is_the_sum_along_the_path():
 
 
 def test_the_three_sets_share_the_uniaxial_anchor_and_spread_above_it():
-    """Low, median and high agree at T = 1/3 (the tensile test) and spread with T: at
+    """Steep, median and mild agree at T = 1/3 (the tensile test) and spread with T: at
     plane-strain tension 0.60, 0.69 and 0.89 of the rupture strain."""
     sets = {name: make(0.19) for name, make in FRACTURE_SETS.items()}
     for crit in sets.values():
         assert crit.critical_strain(1 / 3) == pytest.approx(0.19, rel=1e-14)
     t = 1 / math.sqrt(3)
-    ratios = [float(sets[n].critical_strain(t)) / 0.19 for n in ("low", "median", "high")]
+    ratios = [float(sets[n].critical_strain(t)) / 0.19 for n in ("steep", "median", "mild")]
     assert ratios == sorted(ratios)
     assert [round(r, 2) for r in ratios] == [0.60, 0.69, 0.89]
 

@@ -151,6 +151,17 @@ def test_rekey_carries_results_over_a_change_that_leaves_the_physics_alone(tmp_p
     assert rekey(store, replay, "HEAD") == {"toy": 4}
     assert [r["y"] for r in replay().values()] == [0, 1, 4, 9]
 
+    # an unfinished run's store: what it holds is carried, what it lacks counted
+    partial = ResultStore(tmp_path / "partial.sqlite")
+    (repo / "toy.py").write_text("def f(x):\n    return x * x\n")
+    cache.code_hash.cache_clear()
+    run_tasks(tasks()[:3], partial, workers=1, progress=False)
+    (repo / "toy.py").write_text("def f(x):\n    return x * x  # the same physics\n")
+    cache.code_hash.cache_clear()
+    carried = rekey(partial, lambda seen: run_tasks(tasks(), partial, progress=False,
+                                                    replay=True, seen=seen), "HEAD")
+    assert carried == {"toy": 3} and carried.missing == {"toy": 1}
+
     (repo / "toy.py").write_text("def f(x):\n    return x * x + 1\n")
     cache.code_hash.cache_clear()
     with pytest.raises(RekeyError, match="differs"):

@@ -380,8 +380,8 @@ def validate(args) -> int:
 def _rekey(revision: str, motions, settings, out: Path) -> None:
     """``--rekey-from``: the results that ``revision``'s code stored in ``out`` under its
     keys, carried over to today's once a rerun of the shortest of each kind gives the same
-    result (:func:`rigid.tasks.rekey.rekey`)."""
-    from rigid.tasks import MissingResultsError, ResultStore
+    result (:func:`rigid.tasks.rekey.rekey`); an unfinished run's as far as it went."""
+    from rigid.tasks import ResultStore
     from rigid.tasks.rekey import RekeyError, rekey
     from validation.run import run_validation
 
@@ -391,14 +391,17 @@ def _rekey(revision: str, motions, settings, out: Path) -> None:
     try:
         with ResultStore(out / "results.sqlite") as store:
             carried = rekey(store, replay, revision)
-    except (RekeyError, MissingResultsError) as exc:
+    except RekeyError as exc:
         raise CommandError(f"--rekey-from {revision}: {exc}") from None
+    lacking = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.missing.items()))
     if not carried:
-        print(f"--rekey-from {revision}: nothing to carry over")
+        print(f"--rekey-from {revision}: nothing to carry over"
+              + (f" ({lacking} not stored)" if lacking else ""))
         return
     what = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.items()))
     print(f"results carried over from the code of {revision}: {what} (the shortest two of "
-          "each kind rerun with today's code: identical)")
+          "each kind rerun with today's code: identical)"
+          + (f"; not stored, to be computed by a run: {lacking}" if lacking else ""))
 
 
 def _ring_depth(bearing, limit_states) -> float:

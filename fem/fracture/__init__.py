@@ -4,9 +4,15 @@ damage it accumulates along a strain path, that damage over the rupture gauge st
 and the erosion of the rim elements it tears (:class:`RimFracture`, which
 :func:`fem.simulate` runs with ``fracture=``)."""
 
-from .criterion import FRACTURE_SETS, StressModifiedStrain, accumulate_damage, triaxiality
+from .criterion import (
+    FRACTURE_SETS,
+    StressModifiedStrain,
+    accumulate_damage,
+    criterion_of,
+    triaxiality,
+)
 from .erosion import RimFracture
 from .gauge import GaugeDamage
 
 __all__ = ["FRACTURE_SETS", "GaugeDamage", "RimFracture", "StressModifiedStrain",
-           "accumulate_damage", "triaxiality"]
+           "accumulate_damage", "criterion_of", "triaxiality"]

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FRACTURE_SETS", "StressModifiedStrain", "accumulate_damage", "triaxiality"]
+__all__ = ["FRACTURE_SETS", "StressModifiedStrain", "accumulate_damage", "criterion_of",
+           "triaxiality"]
 
 #: Stress triaxiality of uniaxial tension, where the critical strain is the rupture strain
 #: of a tensile test (Eq. F63).
@@ -81,12 +82,29 @@ def accumulate_damage(criterion: StressModifiedStrain, plastic_strain_increments
     return np.cumsum(increments, axis=0)
 
 
-#: The low, median and high sets of the criterion: the exponent c from published values of
-#: the triaxiality term (docs/theory/finite-elements.md, "Rim fracture": 2.12, Johnson & Cook
-#: 1985's 4340 steel; 1.5, Rice & Tracey 1969; 0.47, Johnson & Cook's Armco iron), each
-#: anchored at the bearing's uniaxial rupture strain. Call with ``rupture_strain=``.
+#: Three sets of the criterion, named by how steeply the critical strain falls with the
+#: triaxiality: the exponent c from published values of the triaxiality term
+#: (docs/theory/finite-elements.md, "Rim fracture": 2.12, Johnson & Cook 1985's 4340 steel;
+#: 1.5, Rice & Tracey 1969; 0.47, Johnson & Cook's Armco iron), each anchored at the bearing's
+#: uniaxial rupture strain. Steeper is less ductile above T = 1/3 (tension) and more ductile
+#: below it (shear), where the rims tear. Call with ``rupture_strain=``.
 FRACTURE_SETS = {
-    "low": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 2.12),
+    "steep": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 2.12),
     "median": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 1.5),
-    "high": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 0.47),
+    "mild": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 0.47),
 }
+
+
+def criterion_of(fracture, rupture_strain: float) -> StressModifiedStrain:
+    """The criterion that ``fracture`` names: a set of :data:`FRACTURE_SETS` (``"steep"``,
+    ``"median"``, ``"mild"``) anchored at ``rupture_strain`` [-], or a
+    :class:`StressModifiedStrain` given as it is."""
+    if isinstance(fracture, str):
+        if fracture not in FRACTURE_SETS:
+            raise ValueError(f"fracture must be one of {', '.join(FRACTURE_SETS)} or a "
+                             f"StressModifiedStrain, got {fracture!r}")
+        return FRACTURE_SETS[fracture](rupture_strain=rupture_strain)
+    if not isinstance(fracture, StressModifiedStrain):
+        raise TypeError(f"fracture must be a set's name or a StressModifiedStrain, got "
+                        f"{type(fracture).__name__}")
+    return fracture

@@ -36,6 +36,9 @@ class RimFracture:
     steps : int
         N, the accepted steps over which a torn element lets go; 0 tracks the damage and
         tears nothing (static comparisons, today's runs).
+    rims : sequence of str, optional
+        The rims watched (default all four, ``fem.limit_states.RIMS``; the static rim push
+        watches ``("bottom +x",)``).
 
     Attributes
     ----------
@@ -44,28 +47,32 @@ class RimFracture:
     torn : dict
         Element → (time [s], rim) at which it tore, in the order they tore.
     rim_damage : list of float
-        Largest element damage of each rim (``fem.limit_states.RIMS`` order) after the last
+        Largest element damage of each watched rim (in ``rims``' order) after the last
         update.
+    rim_triaxiality : list of float
+        T̄ (Eq. F66) at the most damaged point of each watched rim in the last step in which
+        it strained.
     """
 
     def __init__(self, criterion: StressModifiedStrain, fe, mesh, gauge: float,
-                 steps: int = 10):
+                 steps: int = 10, rims=None):
         from fem.limit_states import RIMS, rim_gauge_average
 
         if int(steps) != steps or steps < 0:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
         self.criterion = criterion
         self.steps = int(steps)
-        self.rims = RIMS
+        self.rims = tuple(RIMS if rims is None else rims)
         self.nqp = fe.dx.shape[1]
         self.elements, self.gauges = [], []
-        for name in RIMS:
+        for name in self.rims:
             elems, operator = rim_gauge_average(fe, mesh, name, gauge)
             self.elements.append(elems)
             self.gauges.append(GaugeDamage(criterion, operator))
         self.retained = np.ones(fe.dx.shape[0])
         self.torn: dict = {}
-        self.rim_damage = [0.0] * len(RIMS)
+        self.rim_damage = [0.0] * len(self.rims)
+        self.rim_triaxiality = [0.0] * len(self.rims)
 
     @property
     def first_tear(self):
@@ -83,8 +90,10 @@ class RimFracture:
             intact = np.repeat(before[elems] == 1.0, self.nqp)
             points = (plastic_strain[elems].ravel(),
                       stress[:, elems].reshape(4, -1).T)
-            damage = gauge.update(*points, intact=intact).reshape(elems.size, self.nqp)
-            element = damage.max(axis=1)  # Eq. F67
+            damage = gauge.update(*points, intact=intact)
+            if damage.size:
+                self.rim_triaxiality[k] = float(gauge.triaxiality[np.argmax(damage)])
+            element = damage.reshape(elems.size, self.nqp).max(axis=1)  # Eq. F67
             self.rim_damage[k] = float(element.max()) if element.size else 0.0
             for e in elems[(element >= 1.0) & (before[elems] == 1.0)]:
                 self.torn.setdefault(int(e), (t, self.rims[k]))

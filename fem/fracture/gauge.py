@@ -29,12 +29,19 @@ class GaugeDamage:
     operator : sparse matrix or ndarray, shape (m, n)
         The gauge average A: from the n quadrature points of the rim to the m points where
         the damage is read (:func:`fem.limit_states.rim_gauge_average`).
+
+    Attributes
+    ----------
+    damage : ndarray, shape (m,) [-]
+    triaxiality : ndarray, shape (m,) [-]
+        T̄ at each gauge point in the last step in which its plastic strain grew.
     """
 
     def __init__(self, criterion: StressModifiedStrain, operator):
         self.criterion = criterion
         self.operator = operator
         self.damage = np.zeros(operator.shape[0])
+        self.triaxiality = np.zeros(operator.shape[0])  # T̄ of the last step with growth
         self._plastic_strain = np.zeros(operator.shape[1])
 
     def update(self, plastic_strain, stress, intact=None) -> np.ndarray:
@@ -58,4 +65,5 @@ class GaugeDamage:
             mean_t = np.where(mean_dp > 0.0, weighted / np.where(mean_dp > 0, mean_dp, 1.0),
                               0.0)
         self.damage += self.criterion.damage_increment(mean_dp, mean_t)
+        self.triaxiality = np.where(mean_dp > 0.0, mean_t, self.triaxiality)
         return self.damage.copy()

@@ -8,24 +8,37 @@ that the replay asks for the keys the stored results have; it records the kind a
 every key asked for (:func:`recording`); it reruns a few of the stored tasks with today's
 code and requires their results to be identical, timings aside; only then does it copy every
 result found under the key today's code asks for. Tasks whose inputs changed, not only their
-code, are out of its reach: they are asked for under other keys and stay missing.
+code, are out of its reach: they are asked for under other keys and stay missing. A store
+whose run was not finished is carried over as far as it goes: what the replay did not find
+is counted (:attr:`Rekeyed.missing`), and a run resumed with today's code computes it.
 """
 
 from __future__ import annotations
 
 import json
 import subprocess
+from collections import Counter
 from collections.abc import Callable
 from contextlib import contextmanager
 from pathlib import PurePosixPath
 
 from . import cache
 from . import store as _store
+from .runner import MissingResultsError
 
-__all__ = ["RekeyError", "code_at", "recording", "rekey"]
+__all__ = ["RekeyError", "Rekeyed", "code_at", "recording", "rekey"]
 
 #: Result fields that measure the machine, not the physics: left out of the comparison.
 TIMINGS = frozenset({"cpu_seconds", "wall_seconds", "cpu_s", "seconds", "elapsed_s"})
+
+
+class Rekeyed(dict):
+    """{kind: number of results carried over}, and in ``missing`` (a Counter by kind) the
+    results the replay asked for and the store did not hold (an unfinished run)."""
+
+    def __init__(self, carried=(), missing=None):
+        super().__init__(carried)
+        self.missing = Counter() if missing is None else missing
 
 
 class RekeyError(RuntimeError):
@@ -123,11 +136,17 @@ def rekey(store, replay: Callable[[dict], None], revision: str, *,
 
     Returns
     -------
-    dict {kind: number of results carried over}; :class:`RekeyError` if a rerun differs.
+    Rekeyed
+        {kind: number of results carried over}, with what the store lacked in ``missing``;
+        :class:`RekeyError` if a rerun differs.
     """
     seen: dict = {}
+    missing = Counter()
     with recording() as calls, code_at(revision, current=store.__contains__):
-        replay(seen)
+        try:
+            replay(seen)
+        except MissingResultsError as exc:  # an unfinished run: carry what it holds
+            missing = exc.missing
     today = {}  # the tasks found under the revision's key → today's key
     for old, kind, models, inputs in calls:
         new = _store.key_of(kind, cache.code_hash(*models), inputs)
@@ -144,7 +163,7 @@ def rekey(store, replay: Callable[[dict], None], revision: str, *,
                 raise RekeyError(f"a {kind} task rerun with today's code differs from the one "
                                  f"stored by {revision}: the physics changed; nothing was "
                                  "carried over (rerun instead)")
-    carried: dict = {}
+    carried = Rekeyed(missing=missing)
     for old, new in today.items():
         if store.copy(old, new):
             carried[seen[old].kind] = carried.get(seen[old].kind, 0) + 1
