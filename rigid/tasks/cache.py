@@ -64,29 +64,32 @@ def cache_root() -> Path:
     return (Path(xdg) if xdg else Path.home() / ".cache") / "dfp-failure"
 
 
-def _select(entry: str, paths) -> list[PurePosixPath]:
-    """The files of one entry of :data:`MODEL_CODE` among ``paths`` (relative to :data:`ROOT`):
-    the file itself, or a folder's ``.py`` and ``.geo`` files less the sub-folders that are
-    entries of their own (``fem/ring`` is not part of ``fem``), in a fixed order."""
+def _select(entry: str, paths, code: dict) -> list[PurePosixPath]:
+    """The files of one entry of ``code`` (a :data:`MODEL_CODE`) among ``paths`` (relative
+    to :data:`ROOT`): the file itself, or a folder's ``.py`` and ``.geo`` files less the
+    sub-folders that are entries of their own (``fem/ring`` is not part of ``fem``), in a
+    fixed order."""
     top = PurePosixPath(entry)
     if top in paths:
         return [top]
-    own = [PurePosixPath(e) for codes in MODEL_CODE.values() for e in codes
+    own = [PurePosixPath(e) for codes in code.values() for e in codes
            if e != entry and PurePosixPath(e).is_relative_to(top)
            and PurePosixPath(e) not in paths]  # folders: entries that are no file
     return sorted(p for p in paths if p.is_relative_to(top) and p.suffix in (".py", ".geo")
                   and not any(p.is_relative_to(o) for o in own))
 
 
-def digest(models, paths, read) -> str:
-    """SHA-256 of the source of ``models`` (keys of :data:`MODEL_CODE`), file names included:
-    their files among ``paths`` (relative to :data:`ROOT`), each read by ``read(path)`` →
-    bytes. :func:`code_hash` reads the work tree; :mod:`rigid.tasks.rekey` a git revision."""
+def digest(models, paths, read, code: dict | None = None) -> str:
+    """SHA-256 of the source of ``models`` (keys of ``code``, by default today's
+    :data:`MODEL_CODE`), file names included: their files among ``paths`` (relative to
+    :data:`ROOT`), each read by ``read(path)`` → bytes. :func:`code_hash` reads the work tree;
+    :mod:`rigid.tasks.rekey` a git revision, with that revision's ``MODEL_CODE``."""
+    code = MODEL_CODE if code is None else code
     paths = set(paths)
     h = hashlib.sha256()
     for model in sorted(set(models)):
-        for entry in MODEL_CODE[model]:
-            for path in _select(entry, paths):
+        for entry in code[model]:
+            for path in _select(entry, paths, code):
                 h.update(str(path).encode())
                 h.update(read(path))
     return h.hexdigest()

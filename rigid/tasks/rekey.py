@@ -24,7 +24,7 @@ from pathlib import PurePosixPath
 
 from . import cache
 from . import store as _store
-from .runner import MissingResultsError
+from .runner import MissingResultsError, _one_blas_thread
 
 __all__ = ["RekeyError", "Rekeyed", "code_at", "recording", "rekey"]
 
@@ -56,12 +56,22 @@ def _git(*args: str) -> bytes:
                          f"{detail.decode(errors='replace').strip()}") from None
 
 
+def _model_code_at(revision: str) -> dict:
+    """:data:`.cache.MODEL_CODE` as it was at ``revision`` (which files made which model
+    then: an entry may have been merged or split since)."""
+    source = _git("show", f"{revision}:rigid/tasks/cache.py").decode()
+    space: dict = {"__name__": "rigid.tasks._cache_at_revision", "__file__": str(cache.__file__)}
+    exec(compile(source, f"{revision}:rigid/tasks/cache.py", "exec"), space)
+    return space["MODEL_CODE"]
+
+
 def _hash_at(revision: str, models: tuple[str, ...]) -> str:
     """:func:`.cache.code_hash` of the models' source at ``revision``: the same
-    :func:`.cache.digest` of the files git lists there."""
+    :func:`.cache.digest` of the files git lists there, with that revision's MODEL_CODE."""
     listed = _git("ls-tree", "-r", "--name-only", revision).decode().splitlines()
     return cache.digest(models, map(PurePosixPath, listed),
-                        lambda path: _git("show", f"{revision}:{path}"))
+                        lambda path: _git("show", f"{revision}:{path}"),
+                        code=_model_code_at(revision))
 
 
 @contextmanager
@@ -117,6 +127,18 @@ def _physics(result):
     return strip(json.loads(json.dumps(result)))
 
 
+def _differences(now, then, where: str = "") -> list[str]:
+    """The paths (``a.b[2]``) at which two results read back from JSON differ, with both
+    values where they are plain: what a refused re-keying reports."""
+    if isinstance(now, dict) and isinstance(then, dict):
+        return [d for k in sorted(set(now) | set(then), key=str)
+                for d in _differences(now.get(k), then.get(k), f"{where}.{k}".lstrip("."))]
+    if isinstance(now, list) and isinstance(then, list) and len(now) == len(then):
+        return [d for i, (a, b) in enumerate(zip(now, then, strict=True))
+                for d in _differences(a, b, f"{where}[{i}]")]
+    return [] if now == then else [f"{where or 'the result'}: {now!r} now, {then!r} stored"]
+
+
 def rekey(store, replay: Callable[[dict], None], revision: str, *,
           verify: int = 2) -> dict:
     """Carry the results of ``store`` keyed by the code of ``revision`` over to today's keys.
@@ -159,10 +181,14 @@ def rekey(store, replay: Callable[[dict], None], revision: str, *,
         keys.sort(key=lambda k: store.seconds(k) or 0.0)
         for key in keys[:verify]:
             task = seen[key]
-            if _physics(task.func(**task.kwargs)) != _physics(store.get(key)):
+            with _one_blas_thread():  # as in a worker: BLAS's rounding depends on threads
+                now = _physics(task.func(**task.kwargs))
+            then = _physics(store.get(key))
+            if now != then:
+                fields = _differences(now, then)
                 raise RekeyError(f"a {kind} task rerun with today's code differs from the one "
-                                 f"stored by {revision}: the physics changed; nothing was "
-                                 "carried over (rerun instead)")
+                                 f"stored by {revision} ({', '.join(fields[:4])}): the physics "
+                                 "changed; nothing was carried over (rerun instead)")
     carried = Rekeyed(missing=missing)
     for old, new in today.items():
         if store.copy(old, new):
