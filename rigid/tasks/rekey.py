@@ -56,12 +56,19 @@ def _git(*args: str) -> bytes:
                          f"{detail.decode(errors='replace').strip()}") from None
 
 
-def _model_code_at(revision: str) -> dict:
+#: Where :data:`.cache.MODEL_CODE` is written, relative to the repository root.
+_MODEL_CODE_FILE = "rigid/tasks/cache.py"
+
+
+def _model_code_at(revision: str, listed) -> dict:
     """:data:`.cache.MODEL_CODE` as it was at ``revision`` (which files made which model
-    then: an entry may have been merged or split since)."""
-    source = _git("show", f"{revision}:rigid/tasks/cache.py").decode()
+    then: an entry may have been merged or split since); today's if that revision has no
+    such file (a repository of other models)."""
+    if _MODEL_CODE_FILE not in listed:
+        return cache.MODEL_CODE
+    source = _git("show", f"{revision}:{_MODEL_CODE_FILE}").decode()
     space: dict = {"__name__": "rigid.tasks._cache_at_revision", "__file__": str(cache.__file__)}
-    exec(compile(source, f"{revision}:rigid/tasks/cache.py", "exec"), space)
+    exec(compile(source, f"{revision}:{_MODEL_CODE_FILE}", "exec"), space)
     return space["MODEL_CODE"]
 
 
@@ -71,7 +78,7 @@ def _hash_at(revision: str, models: tuple[str, ...]) -> str:
     listed = _git("ls-tree", "-r", "--name-only", revision).decode().splitlines()
     return cache.digest(models, map(PurePosixPath, listed),
                         lambda path: _git("show", f"{revision}:{path}"),
-                        code=_model_code_at(revision))
+                        code=_model_code_at(revision, listed))
 
 
 @contextmanager
