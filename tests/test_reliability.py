@@ -226,14 +226,22 @@ def test_validation_run_on_a_damaged_store(tmp_path, capsys):
 
 
 def _descendants(pid):
+    """Every process below ``pid``: the children of each of its threads (a pool may start
+    its workers from a thread other than the main one)."""
     out, todo = set(), [pid]
     while todo:
         p = todo.pop()
+        children = []
         try:
-            with open(f"/proc/{p}/task/{p}/children") as fh:
-                children = [int(c) for c in fh.read().split()]
+            threads = os.listdir(f"/proc/{p}/task")
         except OSError:
             continue
+        for tid in threads:
+            try:
+                with open(f"/proc/{p}/task/{tid}/children") as fh:
+                    children += [int(c) for c in fh.read().split()]
+            except OSError:
+                continue
         out.update(children)
         todo.extend(children)
     return out
@@ -269,8 +277,8 @@ def test_sigterm_stops_the_workers_and_keeps_the_results(tmp_path):
                         stored = db.execute("SELECT COUNT(*) FROM results").fetchone()[0]
                     except sqlite3.OperationalError:  # table not created yet
                         stored = 0
-                if stored:
-                    break
+                if stored and children:  # a result may come from the cache before any
+                    break  # worker has started: wait for both
             time.sleep(0.2)
         assert run.poll() is None and stored >= 1, "the run ended before it could be stopped"
         children |= _descendants(run.pid)
