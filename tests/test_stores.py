@@ -27,6 +27,8 @@ REPLAYABLE = {
                        "--limit-state", "hinge", "rupture", "containment"],
     "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
                            "--stop", "3"],
+    "rim-design/fem-240": ["--rim-thickness", "240", "--limit-state", "rupture",
+                           "--stop", "3"],
 }
 
 
