@@ -87,7 +87,7 @@ def accumulate_damage(criterion: StressModifiedStrain, plastic_strain_increments
 #: (docs/theory/finite-elements.md, "Rim fracture": 2.12, Johnson & Cook 1985's 4340 steel;
 #: 1.5, Rice & Tracey 1969; 0.47, Johnson & Cook's Armco iron), each anchored at the bearing's
 #: uniaxial rupture strain. Steeper is less ductile above T = 1/3 (tension) and more ductile
-#: below it (shear), where the 40 mm rim tears in a push. Call with ``rupture_strain=``.
+#: below it (shear), where the rims tear. Call with ``rupture_strain=``.
 FRACTURE_SETS = {
     "steep": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 2.12),
     "median": lambda rupture_strain=0.1906: StressModifiedStrain(rupture_strain, 1.5),

@@ -1,9 +1,9 @@
 r"""The rims tear: damage per rim after every accepted step of an FE run, and the erosion of
 the elements it tears (docs/theory/finite-elements.md, "Rim fracture", Eqs. F66–F68).
 
-    fracture = RimFracture(criterion, fe, mesh, gauge=bearing.rim_thickness, steps=10)
-    if fracture.update(t, plastic_strain, stress):     # after an accepted step
-        system.erode(fracture.retained)                # fem.system.CoupledSystem
+    fracture = RimFracture(criterion, fe, mesh, steps=10)   # criterion: StressModifiedStrain
+    if fracture.update(t, plastic_strain, stress):          # after an accepted step
+        system.erode(fracture.retained)                     # fem.system.CoupledSystem
 """
 
 from __future__ import annotations
