@@ -171,3 +171,42 @@ def test_rekey_carries_results_over_a_change_that_leaves_the_physics_alone(tmp_p
     with pytest.raises(MissingResultsError):
         replay()
     cache.code_hash.cache_clear()
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="re-keying reads code through git")
+def test_rekey_hashes_a_revision_with_its_own_model_code(tmp_path, monkeypatch):
+    """A toy repository whose committed MODEL_CODE gives a sub-folder a model of its own;
+    today's merges it into its parent (as fem/fracture joined fem). The results stored under
+    the revision's split are found, rerun identical and carried over: the revision's code is
+    hashed with the revision's MODEL_CODE, not today's."""
+    from rigid.tasks import ResultStore, Task, cache, run_tasks, task_key
+    from rigid.tasks.rekey import rekey
+
+    repo = tmp_path / "repo"
+    (repo / "toy" / "sub").mkdir(parents=True)
+    (repo / "rigid" / "tasks").mkdir(parents=True)
+    (repo / "toy.py").write_text("def f(x):\n    return x * x\n")
+    (repo / "toy" / "core.py").write_text("A = 1\n")
+    (repo / "toy" / "sub" / "part.py").write_text("B = 2\n")
+    split = {"toy": ("toy.py", "toy"), "toy-sub": ("toy/sub",)}
+    (repo / "rigid" / "tasks" / "cache.py").write_text(f"MODEL_CODE = {split!r}\n")
+    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
+    subprocess.run([*git, "init", "-q"], check=True)
+    subprocess.run([*git, "add", "."], check=True)
+    subprocess.run([*git, "commit", "-qm", "toy"], check=True)
+    monkeypatch.setattr(cache, "ROOT", repo)
+    monkeypatch.setattr(cache, "MODEL_CODE", split)
+    cache.code_hash.cache_clear()
+
+    def tasks():
+        return [Task(task_key("toy", ("toy",), x=x), "toy", _toy, {"x": x, "root": str(repo)})
+                for x in range(3)]
+
+    store = ResultStore(tmp_path / "r.sqlite")
+    run_tasks(tasks(), store, workers=1, progress=False)
+    monkeypatch.setattr(cache, "MODEL_CODE", {"toy": ("toy.py", "toy")})  # the sub merged in
+    cache.code_hash.cache_clear()
+    carried = rekey(store, lambda seen: run_tasks(tasks(), store, progress=False, replay=True,
+                                                  seen=seen), "HEAD")
+    assert carried == {"toy": 3} and not carried.missing
+    cache.code_hash.cache_clear()
