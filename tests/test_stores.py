@@ -109,12 +109,57 @@ def test_a_replay_names_what_its_store_lacks(tmp_path):
 
 
 def _toy(x, root):
-    """The toy model of the re-keying test: ``f`` of the file ``toy.py`` under ``root``."""
+    """The toy model of the re-keying tests: ``f`` of the file ``toy.py`` under ``root``."""
     import time
 
     space: dict = {}
     exec((Path(root) / "toy.py").read_text(), space)
     return {"y": space["f"](x), "cpu_seconds": time.process_time()}
+
+
+SQUARE = "def f(x):\n    return x * x\n"
+
+
+def _toy_repo(tmp_path, monkeypatch, files: dict, model_code: dict) -> Path:
+    """A git repository of ``files`` (path → text), committed, that the library's code
+    hashes read (its ROOT) with ``model_code`` as its MODEL_CODE."""
+    from rigid.tasks import cache
+
+    repo = tmp_path / "repo"
+    for name, text in files.items():
+        (repo / name).parent.mkdir(parents=True, exist_ok=True)
+        (repo / name).write_text(text)
+    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
+    subprocess.run([*git, "init", "-q"], check=True)
+    subprocess.run([*git, "add", "."], check=True)
+    subprocess.run([*git, "commit", "-qm", "toy"], check=True)
+    monkeypatch.setattr(cache, "ROOT", repo)
+    monkeypatch.setattr(cache, "MODEL_CODE", model_code)
+    cache.code_hash.cache_clear()
+    return repo
+
+
+def _edit_toy(repo: Path, text: str) -> None:
+    """Today's ``toy.py`` (uncommitted), its hash computed afresh."""
+    from rigid.tasks import cache
+
+    (repo / "toy.py").write_text(text)
+    cache.code_hash.cache_clear()
+
+
+def _toy_tasks(repo: Path, n: int) -> list:
+    from rigid.tasks import Task, task_key
+
+    return [Task(task_key("toy", ("toy",), x=x), "toy", _toy, {"x": x, "root": str(repo)})
+            for x in range(n)]
+
+
+def _toy_replay(store, repo: Path, n: int):
+    """``replay(seen=None)`` of ``n`` toy tasks from ``store``, as :func:`rekey` calls it."""
+    from rigid.tasks import run_tasks
+
+    return lambda seen=None: run_tasks(_toy_tasks(repo, n), store, progress=False,
+                                       replay=True, seen=seen)
 
 
 @pytest.mark.skipif(shutil.which("git") is None, reason="re-keying reads code through git")
@@ -123,31 +168,14 @@ def test_rekey_carries_results_over_a_change_that_leaves_the_physics_alone(tmp_p
     """A toy model in its own git repository: its results, stored by the committed code,
     are carried over to the keys of an edit that changes no result (a comment), after a
     rerun; an edit that changes a result is refused, and nothing is carried over."""
-    from rigid.tasks import MissingResultsError, ResultStore, Task, cache, run_tasks, task_key
+    from rigid.tasks import MissingResultsError, ResultStore, cache, run_tasks
     from rigid.tasks.rekey import RekeyError, rekey
 
-    repo = tmp_path / "repo"
-    repo.mkdir()
-    (repo / "toy.py").write_text("def f(x):\n    return x * x\n")
-    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
-    subprocess.run([*git, "init", "-q"], check=True)
-    subprocess.run([*git, "add", "toy.py"], check=True)
-    subprocess.run([*git, "commit", "-qm", "toy"], check=True)
-    monkeypatch.setattr(cache, "ROOT", repo)
-    monkeypatch.setattr(cache, "MODEL_CODE", {"toy": ("toy.py",)})
-    cache.code_hash.cache_clear()
-
-    def tasks():
-        return [Task(task_key("toy", ("toy",), x=x), "toy", _toy, {"x": x, "root": str(repo)})
-                for x in range(4)]
-
-    def replay(seen=None):
-        return run_tasks(tasks(), store, progress=False, replay=True, seen=seen)
-
+    repo = _toy_repo(tmp_path, monkeypatch, {"toy.py": SQUARE}, {"toy": ("toy.py",)})
     store = ResultStore(tmp_path / "r.sqlite")
-    run_tasks(tasks(), store, workers=1, progress=False)
-    (repo / "toy.py").write_text("def f(x):\n    return x * x  # the same physics\n")
-    cache.code_hash.cache_clear()
+    replay = _toy_replay(store, repo, 4)
+    run_tasks(_toy_tasks(repo, 4), store, workers=1, progress=False)
+    _edit_toy(repo, "def f(x):\n    return x * x  # the same physics\n")
     with pytest.raises(MissingResultsError):
         replay()
     assert rekey(store, replay, "HEAD") == {"toy": 4}
@@ -155,17 +183,13 @@ def test_rekey_carries_results_over_a_change_that_leaves_the_physics_alone(tmp_p
 
     # an unfinished run's store: what it holds is carried, what it lacks counted
     partial = ResultStore(tmp_path / "partial.sqlite")
-    (repo / "toy.py").write_text("def f(x):\n    return x * x\n")
-    cache.code_hash.cache_clear()
-    run_tasks(tasks()[:3], partial, workers=1, progress=False)
-    (repo / "toy.py").write_text("def f(x):\n    return x * x  # the same physics\n")
-    cache.code_hash.cache_clear()
-    carried = rekey(partial, lambda seen: run_tasks(tasks(), partial, progress=False,
-                                                    replay=True, seen=seen), "HEAD")
+    _edit_toy(repo, SQUARE)
+    run_tasks(_toy_tasks(repo, 3), partial, workers=1, progress=False)
+    _edit_toy(repo, "def f(x):\n    return x * x  # the same physics\n")
+    carried = rekey(partial, _toy_replay(partial, repo, 4), "HEAD")
     assert carried == {"toy": 3} and carried.missing == {"toy": 1}
 
-    (repo / "toy.py").write_text("def f(x):\n    return x * x + 1\n")
-    cache.code_hash.cache_clear()
+    _edit_toy(repo, "def f(x):\n    return x * x + 1\n")
     with pytest.raises(RekeyError, match="differs"):
         rekey(store, replay, "HEAD")
     with pytest.raises(MissingResultsError):
@@ -179,34 +203,17 @@ def test_rekey_hashes_a_revision_with_its_own_model_code(tmp_path, monkeypatch):
     today's merges it into its parent (as fem/fracture joined fem). The results stored under
     the revision's split are found, rerun identical and carried over: the revision's code is
     hashed with the revision's MODEL_CODE, not today's."""
-    from rigid.tasks import ResultStore, Task, cache, run_tasks, task_key
+    from rigid.tasks import ResultStore, cache, run_tasks
     from rigid.tasks.rekey import rekey
 
-    repo = tmp_path / "repo"
-    (repo / "toy" / "sub").mkdir(parents=True)
-    (repo / "rigid" / "tasks").mkdir(parents=True)
-    (repo / "toy.py").write_text("def f(x):\n    return x * x\n")
-    (repo / "toy" / "core.py").write_text("A = 1\n")
-    (repo / "toy" / "sub" / "part.py").write_text("B = 2\n")
     split = {"toy": ("toy.py", "toy"), "toy-sub": ("toy/sub",)}
-    (repo / "rigid" / "tasks" / "cache.py").write_text(f"MODEL_CODE = {split!r}\n")
-    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t"]
-    subprocess.run([*git, "init", "-q"], check=True)
-    subprocess.run([*git, "add", "."], check=True)
-    subprocess.run([*git, "commit", "-qm", "toy"], check=True)
-    monkeypatch.setattr(cache, "ROOT", repo)
-    monkeypatch.setattr(cache, "MODEL_CODE", split)
-    cache.code_hash.cache_clear()
-
-    def tasks():
-        return [Task(task_key("toy", ("toy",), x=x), "toy", _toy, {"x": x, "root": str(repo)})
-                for x in range(3)]
-
+    repo = _toy_repo(tmp_path, monkeypatch, {
+        "toy.py": SQUARE, "toy/core.py": "A = 1\n", "toy/sub/part.py": "B = 2\n",
+        "rigid/tasks/cache.py": f"MODEL_CODE = {split!r}\n"}, split)
     store = ResultStore(tmp_path / "r.sqlite")
-    run_tasks(tasks(), store, workers=1, progress=False)
+    run_tasks(_toy_tasks(repo, 3), store, workers=1, progress=False)
     monkeypatch.setattr(cache, "MODEL_CODE", {"toy": ("toy.py", "toy")})  # the sub merged in
     cache.code_hash.cache_clear()
-    carried = rekey(store, lambda seen: run_tasks(tasks(), store, progress=False, replay=True,
-                                                  seen=seen), "HEAD")
+    carried = rekey(store, _toy_replay(store, repo, 3), "HEAD")
     assert carried == {"toy": 3} and not carried.missing
     cache.code_hash.cache_clear()
