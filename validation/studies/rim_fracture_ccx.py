@@ -49,9 +49,9 @@ def _blocks(text: str, title: str) -> dict:
     return out
 
 
-def calculix_damage(bearing: DFPBearing, plate, elements, criterion, tmp: Path):
-    """CalculiX's push and the damage accumulated from its points: (δ [m], largest D, T̄
-    there) per increment."""
+def calculix_damage(bearing: DFPBearing, plate, fe, elements, criterion, tmp: Path):
+    """CalculiX's push on ``plate`` (``fe``: its element, for the areas) and the damage
+    accumulated from its points: (δ [m], largest D, T̄ there) per increment."""
     deck = tmp / "fracture_push.inp"
     write_deck(deck, plate, bearing, "C3D8I", REACH)
     ids = sorted(int(e) + 1 for e in elements)
@@ -69,7 +69,7 @@ def calculix_damage(bearing: DFPBearing, plate, elements, criterion, tmp: Path):
     times = sorted(stress)
     keys = sorted(coord[times[0]])  # (element, point): 8 bricks' points, two layers alike
     points = np.array([coord[times[0]][k][:2] for k in keys]).T
-    area = PlaneStrainQ1(plate.mesh).basis.dx.sum(axis=1)
+    area = fe.basis.dx.sum(axis=1)
     weights = np.array([area[e - 1] / 8.0 for e, _ in keys])
     gauge = GaugeDamage(criterion, averaging_operator(points, weights,
                                                       0.5 * bearing.rim_thickness))
@@ -101,11 +101,11 @@ def main() -> None:
     bearing = DFPBearing()
     criterion = FRACTURE_SETS["median"](rupture_strain=bearing.rupture_strain)
     plate = bottom_plate(bearing)
-    elements, _ = rim_gauge_average(PlaneStrainQ1(plate.mesh), plate.mesh, "bottom +x",
-                                    bearing.rim_thickness)
+    fe = PlaneStrainQ1(plate.mesh)
+    elements, _ = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
     ours = rim_pushover(bearing, displacement=REACH, steps=STEPS, fracture=criterion)
     with tempfile.TemporaryDirectory() as tmp:
-        ccx = calculix_damage(bearing, plate, elements, criterion, Path(tmp))
+        ccx = calculix_damage(bearing, plate, fe, elements, criterion, Path(tmp))
     grid = np.linspace(0.0, REACH, 57)
     rows = [{"displacement_mm": d * 1e3,
              "damage_ours": np.interp(d, ours.displacement, ours.damage),
