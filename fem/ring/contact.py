@@ -42,6 +42,7 @@ class CylinderContact:
         self.X = np.asarray(fb.global_coordinates())  # (3, nfacets, nqp)
         self.weights = np.asarray(fb.dx)
         self.dofs = np.asarray(fb.element_dofs)
+        self.elements = np.asarray(fb.tind)  # the element each facet belongs to
         zmin, zmax = z_range
         self.active_height = (self.X[2] > zmin - 1e-9) & (self.X[2] < zmax + 1e-9)
 
@@ -62,22 +63,27 @@ class CylinderContact:
         f = np.bincount(self.dofs.ravel(), fe.ravel(), minlength=self.solid.ndofs)
         return f, float(traction[0].sum())
 
-    def stiffness(self, u: np.ndarray, centre: float) -> sp.csr_matrix:
-        """−∂(contact force)/∂u [N/m]: k n⊗n − (p/ρ)(P_h − n⊗n) at each pressed point (Eq. F57)."""
+    def element_matrices(self, u: np.ndarray, centre: float):
+        """−∂(contact force)/∂u [N/m] as the pressed facets' elements and their (n, 60, 60)
+        matrices: k n⊗n − (p/ρ)(P_h − n⊗n) at each pressed point (Eq. F57)."""
         rho, n, pressure = self._kinematics(u, centre)
         on = pressure > 0
-        if not on.any():
-            return sp.csr_matrix((self.solid.ndofs, self.solid.ndofs))
+        facets = np.flatnonzero(on.any(axis=1))
         horizontal = np.diag([1.0, 1.0, 0.0])
+        n, rho, pressure = n[:, facets], rho[facets], pressure[facets]
         nn = n[:, None] * n[None, :]
         k = (self.penalty * nn - (pressure / np.where(rho > 0, rho, 1.0))
-             * (horizontal[:, :, None, None] - nn)) * (on * self.weights)
-        facets = np.flatnonzero(on.any(axis=1))
+             * (horizontal[:, :, None, None] - nn)) * (on[facets] * self.weights[facets])
         Nf = self.N[:, :, facets]
-        ke = np.einsum("aieq,ijeq,bjeq->abe", Nf, k[:, :, facets], Nf)
-        dofs = self.dofs[:, facets]
+        ke = np.einsum("aieq,ijeq,bjeq->eab", Nf, k, Nf, optimize=True)
+        return self.elements[facets], ke
+
+    def stiffness(self, u: np.ndarray, centre: float) -> sp.csr_matrix:
+        """The tangent of :meth:`element_matrices` assembled [N/m]."""
+        elements, ke = self.element_matrices(u, centre)
+        dofs = self.solid.dofs[:, elements]
         nb = dofs.shape[0]
-        rows = np.repeat(dofs[:, None, :], nb, axis=1).ravel()
-        cols = np.repeat(dofs[None, :, :], nb, axis=0).ravel()
+        rows = np.repeat(dofs.T[:, :, None], nb, axis=2).ravel()
+        cols = np.repeat(dofs.T[:, None, :], nb, axis=1).ravel()
         return sp.csr_matrix((ke.ravel(), (rows, cols)),
                              shape=(self.solid.ndofs, self.solid.ndofs))

@@ -33,6 +33,8 @@ FINE_REACH, FINE_STEP, COARSE_STEP = 2.0e-3, 5.0e-5, 5.0e-4
 PENALTY_FACTOR = 10.0
 #: Newton: the free dofs' residual relative to the reactions, and the iterations of a try.
 RTOL, MAX_ITER = 1e-7, 12
+#: Halvings of a Newton step in the cylinder's line search.
+LINE_SEARCH = 4
 
 LOADS = ("cylinder", "punch", "pressure", "strip")
 
@@ -263,6 +265,7 @@ class _Problem:
         self.gauge = _gauge_operator(self.solid, self.rim, 0.5 * b.rim_thickness)
         self.hinge_section = mesh.elements(mesh.root_quads, layers=mesh.load_layers)
         self.linear = TangentSolver(backend)
+        self._free = None
 
     def residual(self, u, delta, state, pressure=0.0):
         """Out-of-balance forces [N] and the material's answer at ``u`` [m]."""
@@ -293,8 +296,9 @@ class _Problem:
         p = self.pressure
         lam = p.value if p is not None else 0.0
         reference = None
+        answer = self.residual(u, delta, state, lam)
         for it in range(MAX_ITER + 1):
-            r, tangent, trial, plastic, stress, force = self.residual(u, delta, state, lam)
+            r, tangent, trial, plastic, stress, force = answer
             rf = r[self.free]
             norm = np.linalg.norm(rf)
             gap = 0.0 if p is None else p.forces @ u / p.area - delta
@@ -307,10 +311,10 @@ class _Problem:
                     return True, u, trial, plastic, stress, force
                 if norm > 1e3 * reference:  # diverging: the caller cuts the increment
                     break
-            K = self.solid.stiffness(tangent, plastic, self.elastic)
-            if self.contact is not None:
-                K = K + self.contact.stiffness(u, self.centre0 + delta)
-            Kff = K[self.free][:, self.free]
+            extra = (None if self.contact is None
+                     else self.contact.element_matrices(u, self.centre0 + delta))
+            K = self.solid.stiffness(tangent, plastic, self.elastic, extra)
+            Kff = self._free_block(K)
             if it == 0 and self.pushed.size and guess is None:
                 rf = rf + K[self.free][:, self.fixed] @ du_fixed
                 u[self.fixed] += du_fixed
@@ -324,8 +328,40 @@ class _Problem:
                 lam += dlam
             if not np.all(np.isfinite(du)):
                 break
-            u[self.free] += du
+            if self.contact is not None:
+                u, answer = self._line_search(u, du, delta, state, norm)
+            else:
+                u[self.free] += du
+                answer = self.residual(u, delta, state, lam)
         return False, u, state, None, None, None
+
+    def _free_block(self, K: sp.csr_matrix) -> sp.csr_matrix:
+        """K_ff: the free rows and columns of K (whose pattern never changes), their
+        positions in K.data found at the first call."""
+        if self._free is None:
+            marker = sp.csr_matrix((np.arange(1.0, K.nnz + 1), K.indices, K.indptr),
+                                   shape=K.shape)[self.free][:, self.free].tocsr()
+            marker.sort_indices()
+            self._free = (marker.indptr, marker.indices, marker.data.astype(np.int64) - 1)
+        indptr, indices, where = self._free
+        n = self.free.size
+        return sp.csr_matrix((K.data[where], indices, indptr), shape=(n, n))
+
+    def _line_search(self, u, du, delta, state, norm):
+        """``u`` [m] moved by the Newton step ``du`` [m], halved until the free residual falls
+        below ``norm`` [N] (at most :data:`LINE_SEARCH` times; else the full step), and the
+        residual there. The cylinder's contact points switch on and off between iterates; a
+        full step that switches many makes Newton cycle (Eq. F57)."""
+        step, full = 1.0, None
+        for _ in range(LINE_SEARCH + 1):
+            trial = u.copy()
+            trial[self.free] += step * du
+            answer = self.residual(trial, delta, state)
+            full = full or (trial, answer)
+            if np.linalg.norm(answer[0][self.free]) < norm:
+                return trial, answer
+            step *= 0.5
+        return full
 
 
 def ring_push(bearing: DFPBearing, load: Load = Load("cylinder"), *,

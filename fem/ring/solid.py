@@ -183,12 +183,15 @@ class Solid:
         return np.matmul(Bt.transpose(0, 1, 3, 2), DB).sum(axis=1)
 
     def stiffness(self, tangent: np.ndarray, plastic: np.ndarray | None = None,
-                  elastic: np.ndarray | None = None) -> sp.csr_matrix:
+                  elastic: np.ndarray | None = None, extra=None) -> sp.csr_matrix:
         """∫ Bᵀ D B dV assembled [N/m] from tangents (6, 6, nelems, nqp) [Pa] (Eq. F55).
 
         With ``plastic`` (nelems, nqp) and the elastic matrix ``elastic`` (6, 6) [Pa], only
         the elements with a plastic point are integrated; the others take their elastic
-        matrices, integrated once."""
+        matrices, integrated once. ``extra`` = (elements, matrices (n, 60, 60) [N/m]) adds
+        the matrices to those elements' (the contact's, Eq. F57). The sparsity pattern is
+        the same at every call, explicit zeros kept, so a factorisation's analysis of it
+        can be reused (:class:`fem.ring.linear.TangentSolver`)."""
         if plastic is None or elastic is None:
             ke = self.element_matrices(tangent)
         else:
@@ -199,6 +202,8 @@ class Solid:
             changed = np.flatnonzero(plastic.any(axis=1))
             if changed.size:
                 ke[changed] = self.element_matrices(tangent[:, :, changed], changed)
+        if extra is not None:
+            np.add.at(ke, extra[0], extra[1])
         data = np.bincount(self._slots, ke.ravel(), minlength=self._indices.size)
         return sp.csr_matrix((data, self._indices, self._indptr),
                              shape=(self.ndofs, self.ndofs))
