@@ -359,7 +359,7 @@ def _validate_parser(sub):
                    help="the rims' strength: the plane-strain rim times the depth πb/4 "
                    "(default), or the 3-D push of the rim as a ring (the yielding rims' law, "
                    "and the FE rims' effective depth at the one limit state searched; the "
-                   "first use of a rim geometry runs a 3-D push, about half an hour)")
+                   "first use of a rim geometry runs a 3-D push, a few minutes)")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes);"
                    " the results come back here, the workers need no view of --out")

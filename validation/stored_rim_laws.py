@@ -4,7 +4,7 @@ A run with yielding rims gives the rigid model a rim law (:class:`rigid.rims.Rim
 run with ``--rim-model ring`` gives the FE rims the ring's effective depth, which comes from
 two laws. Both come from FE pushes that the library caches outside the run's folder
 (:func:`fem.rim_law`), so a store alone could not be replayed on another machine: the ring's
-push takes half an hour. Each law is therefore stored in ``results.sqlite`` under the key of
+push takes minutes. Each law is therefore stored in ``results.sqlite`` under the key of
 its cache file (which includes the pushing model's code), and planted in the cache from there
 when the cache lacks it.
 """

@@ -64,17 +64,23 @@ def pushes_figure(curves: list[dict], out: Path) -> None:
 
 
 def depth_figure(table: list[dict], out: Path) -> None:
-    """d_eff at the hinge and the limit against rim thickness: the slider (cylinder) on the
-    coarse mesh for every rim and on the default mesh where run, the πb/4 punch on the
-    default mesh."""
+    """d_eff at the hinge and the limit against rim thickness, one colour per rim height and
+    slider: the slider (cylinder) on the default mesh (solid) and on the coarse one (thin,
+    dotted), the πb/4 punch on the default mesh (dashed)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    series = {("cylinder", "coarse"): ("o-", "slider (cylinder), coarse mesh"),
-              ("cylinder", "default"): ("*", "slider (cylinder), default mesh"),
-              ("punch", "default"): ("s--", "punch πb/4, default mesh")}
+    series = {("cylinder", "default"): dict(marker="o", ls="-", lw=1.8, ms=5),
+              ("cylinder", "coarse"): dict(marker=".", ls=":", lw=1.0, ms=4),
+              ("punch", "default"): dict(marker="s", ls="--", lw=1.0, ms=4)}
+    names = {("cylinder", "default"): "slider (cylinder)",
+             ("cylinder", "coarse"): "slider, coarse mesh",
+             ("punch", "default"): "punch πb/4"}
+    rims = sorted({(r["rim_height_mm"], r["slider_diameter_m"]) for r in table},
+                  key=lambda hb: (_float(hb[1]), _float(hb[0])))
+    colour = {hb: f"C{i}" for i, hb in enumerate(rims)}
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.6), sharey=True, constrained_layout=True)
     for ax, point, title in ((axes[0], "hinge", "at the hinge"),
                              (axes[1], "limit", "at the limit load")):
@@ -89,12 +95,11 @@ def depth_figure(table: list[dict], out: Path) -> None:
             key = (load, r["mesh"], r["rim_height_mm"], r["slider_diameter_m"])
             groups.setdefault(key, []).append(
                 (_float(r["rim_thickness_mm"]), _float(r[f"d_eff_{point}_m"])))
-        for i, ((load, mesh, h, b), pts) in enumerate(sorted(groups.items())):
+        for (load, mesh, h, b), pts in sorted(groups.items()):
             pts.sort()
             t, d = zip(*pts, strict=True)
-            marker, name = series[(load, mesh)]
-            ax.plot(t, d, marker, color=f"C{i % 10}", ms=9 if marker == "*" else 5,
-                    label=f"{name}: h_r = {h} mm, b = {b} m")
+            ax.plot(t, d, color=colour[(h, b)], **series[(load, mesh)],
+                    label=f"{names[(load, mesh)]}: h_r = {h} mm, b = {b} m")
         for b, ls in ((0.4, "--"), (0.6, ":")):
             ax.axhline(math.pi * b / 4, color="grey", ls=ls, lw=1, label=f"πb/4, b = {b} m")
         ax.set_xscale("log", base=2)
