@@ -10,7 +10,7 @@
    analysis of the pattern and reusing it, against SciPy's SuperLU (median of ``--repeat``).
 
 Run: ``OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/bench_ring.py [--repeat N]
-[--mesh coarse] [--cylinder]`` (about 10 minutes on an idle core without ``--cylinder``).
+[--mesh coarse] [--cylinder]`` (about 7 minutes on an idle core, 3 more with ``--cylinder``).
 Prints the machine's load before and after.
 """
 
