@@ -25,6 +25,8 @@ DOCS = Path(__file__).resolve().parents[1] / "docs"
 REPLAYABLE = {
     "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
                        "--limit-state", "hinge", "rupture", "containment"],
+    "rim-design/fem-120": ["--rim-thickness", "120", "--limit-state", "rupture",
+                           "--stop", "3"],
     "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
                            "--stop", "3"],
     "rim-design/fem-240": ["--rim-thickness", "240", "--limit-state", "rupture",
