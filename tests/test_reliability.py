@@ -255,6 +255,35 @@ def _alive(pid):
         return False
 
 
+class _Stop(Exception):
+    pass
+
+
+def test_a_signal_while_a_worker_starts_is_delivered_after_it():
+    """SIGTERM raised while the pool starts a worker (here: inside ``_signals_held``) reaches
+    the caller's handler only once the block has ended, and the handlers are the caller's
+    again after it; a SIGTERM after the block is handled at once."""
+    from rigid.tasks.runner import _signals_held
+
+    def stop(signum, frame):
+        raise _Stop(signum)
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        finished = False
+        with pytest.raises(_Stop):
+            with _signals_held():
+                signal.raise_signal(signal.SIGTERM)
+                finished = True  # not reached if the handler ran inside the block
+        assert finished
+        assert signal.getsignal(signal.SIGTERM) is stop
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        with pytest.raises(_Stop):
+            signal.raise_signal(signal.SIGTERM)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 @pytest.mark.skipif(not os.path.exists("/proc/self/task"), reason="needs Linux /proc")
 def test_sigterm_stops_the_workers_and_keeps_the_results(tmp_path):
     """A validation run with two worker processes is sent SIGTERM once its first result is

@@ -142,6 +142,33 @@ def _die_with_parent(owner: int, initializer=None):
         initializer()
 
 
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT and SIGTERM back for the body, then deliver one that came meanwhile.
+
+    A spawned worker reads its start-up data from a pipe its parent writes just after
+    starting it; Ctrl-C or SIGTERM (which :mod:`validation.cli` turns into an exception)
+    arriving in between left the pipe empty, and the new worker, never registered with the
+    pool and so never stopped, printed ``EOFError: Ran out of input`` after the run's last
+    line. The body runs with handlers that only note the signal; the caller's handlers come
+    back and the signal is raised again at the end. Off the main thread (where handlers
+    cannot be set) the body runs as it is."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught = []
+    kinds = (signal.SIGINT, signal.SIGTERM)
+    previous = {kind: signal.signal(kind, lambda signum, frame: caught.append(signum))
+                for kind in kinds}
+    try:
+        yield
+    finally:
+        for kind, handler in previous.items():
+            signal.signal(kind, handler)
+        for signum in dict.fromkeys(caught):
+            signal.raise_signal(signum)
+
+
 class _Local:
     """A process pool (``spawn`` by default: fork is unsafe with Numba threads); with one
     worker, tasks run in this process instead (simplest to debug and profile), with one BLAS
@@ -170,7 +197,8 @@ class _Local:
         from concurrent.futures import Future
 
         if self.pool is not None:
-            return self.pool.submit(_timed, task.func, task.kwargs)
+            with _signals_held():  # a submit may start a worker process
+                return self.pool.submit(_timed, task.func, task.kwargs)
         future = Future()
         with _one_blas_thread():
             future.set_result(_timed(task.func, task.kwargs))
