@@ -190,7 +190,6 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     n_support = 2 * plate.support.size
     state = (FiniteState if kinematics == "finite" else MaterialState).virgin(fe.point_shape)
     u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
-    rim, average = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
     out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0], "damage": [0.0],
            "triax": [0.0]}
     hinge = tear = None
@@ -200,6 +199,9 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
 
         tracker = RimFracture(criterion_of(fracture, bearing.rupture_strain), fe, plate.mesh,
                               bearing.rim_thickness, steps=0, rims=("bottom +x",))
+        rim, average = tracker.elements[0], tracker.gauges[0].operator  # its gauge, Eq. F52
+    else:
+        rim, average = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
     delta, h = 0.0, delta_end / steps
     while delta < delta_end * (1 - 1e-12):
         target = min(delta + h, delta_end)

@@ -42,7 +42,7 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", cache: bool = T
         docs/theory/finite-elements.md, "Rim push") times the depth πb/4 (Eqs. F1–F3), about
         20 s of CPU the first time. ``"ring"``: the 3-D push of the rim as a ring by the
         slider, a rigid cylinder (small strain, default 3-D mesh; "The rim as a ring", Eqs.
-        F54–F58), about half an hour of CPU the first time.
+        F54–F58), minutes of CPU the first time.
     cache : bool
         Read and write the cache.
 

@@ -76,6 +76,16 @@ def test_fem_pressure_not_in_the_run(tmp_path):
                     "--fem-pressure 60")
 
 
+def test_slider_edges_the_slider_cannot_have(tmp_path):
+    """An edge radius beyond half the height of the slider's flat sides (92 mm for the
+    baseline) is refused before anything runs, in one line naming the option."""
+    out = tmp_path / "o"
+    _one_line_error(dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)),
+                        "--fem-edge-radius", "95", "--out", str(out)),
+                    "--fem-edge-radius 95", "edge_radius")
+    assert not (out / "results.sqlite").exists()
+
+
 def test_bad_number_from_argparse(tmp_path):
     result = dfp("demo", "--period", "-1")
     assert result.returncode == 2 and "must be between 0.05 and 20 s" in result.stderr

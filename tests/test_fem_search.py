@@ -386,3 +386,56 @@ def test_one_real_fem_run_through_the_runner(tmp_path):
     assert out["runs"] == 1 and out["quiet"] and out["dofs"] == 905
     first_impact = rigid.simulate(bearing, a, dt).impacts[0].time
     assert 0.98 * first_impact <= out["failure_time"] < t[-1]
+
+
+def test_fracture_and_edges_key_a_run_only_when_set():
+    """The defaults leave a run's options (its key) as they were before these settings
+    existed; set, they reach the FE run's options in SI units; a bad one is refused."""
+    from fem.fracture import FRACTURE_SETS
+
+    before = {"mesh", "max_step", "impact_step", "trim", "free", "lead", "margin", "kinematics",
+              "limit_state"}
+    assert set(FESettings().run_options()) == before
+    options = FESettings(fracture="median", edge_radius=0.02).run_options()
+    assert options["fracture"] == "median" and options["edge_radius"] == 0.02
+    assert set(options) == before | {"fracture", "edge_radius"}
+    with pytest.raises(ValueError, match="fracture must be one of"):
+        FESettings(fracture="brittle")
+    with pytest.raises(ValueError, match="edge_radius"):
+        FESettings(edge_radius=-0.001)
+    assert set(FRACTURE_SETS) == {"steep", "median", "mild"}  # the CLI's --fem-fracture
+
+
+@pytest.mark.parametrize("fracture", [None, "mild"])
+def test_fem_run_hands_fracture_and_edges_to_the_model(fracture):
+    """fem_run passes what is set to fem.simulate and nothing else (the model's defaults are
+    its own), and reports the last run's tearing: a stand-in model records its options."""
+    import dataclasses
+
+    from validation.fem_runs import fem_run
+
+    seen = []
+
+    def model(bearing, a, dt, **kw):
+        seen.append(kw)
+        t = np.arange(0.0, 1.0, 0.01)
+        return SimpleNamespace(
+            failed=True, failure_mode="rupture", failure_time=0.5, numerical_failure=False,
+            failure_detail=None, limit_states={"hinge": 0.4, "rupture": 0.5,
+                                               "containment": None},
+            time=t, steps=3, newton_iterations=9, dofs=905, max_plastic_strain=0.3,
+            rim_force=np.ones(3), torn_elements={7: (0.5, 1), 8: (0.51, 1)},
+            energy={k: np.zeros(t.size) + (2.5 if k == "fracture" else 0.0)
+                    for k in ("kinetic", "strain", "contact", "fracture")},
+            bearing=bearing, top_plate_rise=np.zeros(t.size), slider_rise=np.zeros(t.size))
+
+    dt = 0.01
+    a = 5.0 * np.sin(np.arange(0.0, 4.0, dt) * np.pi)
+    out = fem_run(dataclasses.asdict(DFPBearing()), a, dt, 1.0, trim="none",
+                  fracture=fracture, edge_radius=0.015 if fracture else 0.0, simulate=model)
+    assert ("fracture" in seen[-1]) == (fracture is not None)
+    if fracture:
+        assert seen[-1]["fracture"] == "mild" and seen[-1]["edge_radius"] == 0.015
+        assert out["torn_elements"] == 2 and out["fracture_energy"] == 2.5
+    else:
+        assert "edge_radius" not in seen[-1] and "torn_elements" not in out

@@ -345,6 +345,14 @@ def _validate_parser(sub):
                    f"{QUICK_FEM_RECORDS})")
     p.add_argument("--fem-pressure", type=_PRESSURE, nargs="+",
                    help="pressures [MPa] with FE runs (default all; --quick: the first)")
+    p.add_argument("--fem-fracture", choices=("steep", "median", "mild"),
+                   help="FE rims that tear: ductile damage with a critical strain that falls "
+                   "with the stress triaxiality (the three constants' sets; default none: the "
+                   "steel never tears; docs/theory/finite-elements.md, 'Rim fracture')")
+    p.add_argument("--fem-edge-radius", type=_number(float, 0, None, " mm"), default=0.0,
+                   help="FE slider's rounded edges, radius [mm], below half the height of its "
+                   "flat sides (default 0: sharp, the rigid model's; docs/fe-companion.md, "
+                   "'Rounded slider edges')")
     p.add_argument("--limit-state", nargs="+", choices=LIMIT_STATES, default=["hinge"],
                    help="FE limit states searched, each its own FE critical SA sharing the "
                    "same runs (default hinge; docs/theory/finite-elements.md, 'Limit states')")

@@ -270,6 +270,16 @@ def _motions(args):
     return motions, label
 
 
+def _check_edge_radius(bearing: DFPBearing, radius: float) -> None:
+    """A one-line error unless the slider of ``bearing`` can have edges of ``radius`` [m]."""
+    from fem.contact.slider import SliderShape
+
+    try:
+        SliderShape.from_bearing(bearing, radius)
+    except ValueError as exc:
+        raise CommandError(f"--fem-edge-radius {radius * 1e3:g}: {exc}") from None
+
+
 def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
@@ -288,7 +298,9 @@ def validate(args) -> int:
     baseline = DFPBearing()
     fields = {k: v for k, v in fields.items() if v != getattr(baseline, k)}
     for p in args.pressure:  # a variant that is no bearing fails here, in one line
-        bearing_from(fields, pressure=p * 1e6)
+        variant = bearing_from(fields, pressure=p * 1e6)
+        if args.fem and args.fem_edge_radius:
+            _check_edge_radius(variant, args.fem_edge_radius / 1e3)
     out = _locked_output_folder(args)
     motions, label = _motions(args)
     criteria = args.criteria or ((3, 4) if args.quick else (1, 2, 3, 4))
@@ -302,7 +314,8 @@ def validate(args) -> int:
         step = args.fem_step or (QUICK_FEM_STEP if args.quick else FULL_FEM_STEP)
         fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
                          kinematics=args.fem_kinematics,
-                         limit_states=tuple(dict.fromkeys(args.limit_state)))
+                         limit_states=tuple(dict.fromkeys(args.limit_state)),
+                         fracture=args.fem_fracture, edge_radius=args.fem_edge_radius / 1e3)
     bearing = tuple(fields.items())
     if args.rim_model == "ring" and fem is not None and len(fem.limit_states) != 1:
         raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "

@@ -55,7 +55,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
             max_step: float = 5e-3, impact_step: float = 5e-4, trim: str = "end",
             free: float = 20.0, lead: float = 0.1, margin: float = 1.0,
             kinematics: str = "finite", limit_state: str = "hinge",
-            rim_depth: float | None = None, simulate=None) -> dict:
+            rim_depth: float | None = None, fracture: str | None = None,
+            edge_radius: float = 0.0, simulate=None) -> dict:
     """One FE run of a scaled record, trimmed (module docstring); runs in a worker.
 
     Parameters
@@ -85,6 +86,12 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         quiet time.
     rim_depth : float [m], optional
         :func:`fem.simulate`'s out-of-plane depth of the rims (default the model's πb/4).
+    fracture : {"steep", "median", "mild"}, optional
+        :func:`fem.simulate`'s ductile fracture of the rims: torn elements let go and the
+        rupture is the first tear (default none: the rupture is the gauge strain reaching
+        the rupture strain, and the steel never tears).
+    edge_radius : float [m]
+        :func:`fem.simulate`'s rounded slider edges (default 0: sharp).
     simulate : callable, optional
         Stand-in for :func:`fem.simulate` (tests).
 
@@ -98,7 +105,9 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         [J], ``quiet`` (energy below the bound at the end: the verdict is final), ``runs``
         (1, or 2 when the guessed end was not quiet), ``steps``, ``newton_iterations``,
         ``dofs``, ``max_plastic_strain``,
-        ``max_rim_force`` [N], ``cpu_seconds``, ``wall_seconds``.
+        ``max_rim_force`` [N], ``cpu_seconds``, ``wall_seconds``; with ``fracture`` also
+        ``torn_elements`` (how many tore) and ``fracture_energy`` [J] (the energy they
+        released).
     """
 
     if simulate is None:
@@ -125,11 +134,12 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     total = record_end + free - t0
     durations = [total if trim == "none" else _duration_guess(b, a, dt, window, total, margin),
                  total]
+    options = {"rim_depth": rim_depth, "fracture": fracture, "edge_radius": edge_radius}
+    options = {k: v for k, v in options.items() if v}  # what is set: the model's defaults
     for duration in dict.fromkeys(durations):  # the guess, then (if needed) the whole rest
         res = simulate(b, a[window.start:], dt, duration=duration,
                        mesh_options=MESHES[mesh], max_step=max_step, impact_step=impact_step,
-                       kinematics=kinematics, limit_state=limit_state,
-                       **({} if rim_depth is None else {"rim_depth": rim_depth}))
+                       kinematics=kinematics, limit_state=limit_state, **options)
         energy = fem_mechanical_energy(res)
         out.update(
             failed=bool(res.failed), failure_mode=res.failure_mode,
@@ -144,6 +154,9 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
             dofs=res.dofs, max_plastic_strain=float(res.max_plastic_strain),
             max_rim_force=float(res.rim_force.max()) if res.rim_force.size else 0.0,
         )
+        if fracture:  # the last run's, as the verdict
+            out.update(torn_elements=len(res.torn_elements),
+                       fracture_energy=float(res.energy["fracture"][-1]))
         out["quiet"] = bool(energy[-1] < QUIET_FRACTION * reach)  # Eq. C15
         if res.failed or res.numerical_failure or out["quiet"]:
             break

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from fem.dfp import KINEMATICS
+from fem.fracture import FRACTURE_SETS
 from rigid import DFPBearing
 from rigid.limit_states import LIMIT_STATES, check_limit_states
 from rigid.reprs import install as install_short_repr
@@ -94,7 +95,9 @@ class BracketBisect:
 class FESettings:
     """How the FE critical SA is searched. Keyed into every stored FE run (with the bearing,
     the record and the scale), except ``limit_states``: the runs stop at the last of them
-    (:func:`run_limit_state`), so the searches of all of them share their runs."""
+    (:func:`run_limit_state`), so the searches of all of them share their runs. ``rim_depth``,
+    ``fracture`` and ``edge_radius`` [m] (:func:`fem_run`'s) key a run only when set, so the
+    runs of the model's defaults keep their keys."""
 
     mesh: str = "coarse"
     max_step: float = 5e-3
@@ -106,19 +109,27 @@ class FESettings:
     kinematics: str = "finite"
     limit_states: tuple = ("hinge",)
     rim_depth: float | None = None
+    fracture: str | None = None
+    edge_radius: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "limit_states", check_limit_states(self.limit_states))
         if self.kinematics not in KINEMATICS:
             raise ValueError(f"kinematics must be one of {', '.join(KINEMATICS)}, got "
                              f"{self.kinematics!r}")
+        if self.fracture is not None and self.fracture not in FRACTURE_SETS:
+            raise ValueError(f"fracture must be one of {', '.join(FRACTURE_SETS)} or None, "
+                             f"got {self.fracture!r}")
+        if not (math.isfinite(self.edge_radius) and self.edge_radius >= 0):
+            raise ValueError(f"edge_radius must be a length ≥ 0 [m], got {self.edge_radius!r}")
 
     def run_options(self) -> dict:
         """Keyword arguments of :func:`fem_run` (what keys a stored run)."""
         options = dataclasses.asdict(self)
         del options["limit_states"]
-        if options["rim_depth"] is None:  # the model's depth: the keys of runs without it
-            del options["rim_depth"]
+        for name, default in (("rim_depth", None), ("fracture", None), ("edge_radius", 0.0)):
+            if options[name] == default:  # the model's: the keys of runs without it
+                del options[name]
         return {**options, "limit_state": run_limit_state(self.limit_states)}
 
     def describe(self) -> dict:
@@ -135,7 +146,12 @@ class FESettings:
                                   "small": "small strain"}[self.kinematics],
                 "FE limit states": ", ".join(self.limit_states),
                 "FE rims' depth [m]": ("πb/4, the model's" if self.rim_depth is None
-                                       else f"{self.rim_depth:.3f} (3-D effective depth)")}
+                                       else f"{self.rim_depth:.3f} (3-D effective depth)"),
+                "FE rim fracture": ("none: the rupture is the rupture strain over its gauge"
+                                    if self.fracture is None else
+                                    f"{self.fracture} ductile damage; torn elements let go"),
+                "FE slider edges": ("sharp" if not self.edge_radius
+                                    else f"rounded, radius {self.edge_radius * 1e3:g} mm")}
 
 
 def run_limit_state(limit_states) -> str:

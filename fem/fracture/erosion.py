@@ -1,7 +1,7 @@
 r"""The rims tear: damage per rim after every accepted step of an FE run, and the erosion of
 the elements it tears (docs/theory/finite-elements.md, "Rim fracture", Eqs. F66–F68).
 
-    fracture = RimFracture(criterion, fe, mesh, steps=10)   # criterion: StressModifiedStrain
+    fracture = RimFracture(criterion, fe, mesh, gauge=bearing.rim_thickness, steps=10)
     if fracture.update(t, plastic_strain, stress):          # after an accepted step
         system.erode(fracture.retained)                     # fem.system.CoupledSystem
 """
@@ -87,7 +87,8 @@ class RimFracture:
             going = self.retained < 1.0
             self.retained[going] = np.maximum(self.retained[going] - 1.0 / self.steps, 0.0)
         for k, (elems, gauge) in enumerate(zip(self.elements, self.gauges, strict=True)):
-            intact = np.repeat(before[elems] == 1.0, self.nqp)
+            whole = before[elems] == 1.0  # neither torn nor letting go before this step
+            intact = np.repeat(whole, self.nqp)
             points = (plastic_strain[elems].ravel(),
                       stress[:, elems].reshape(4, -1).T)
             damage = gauge.update(*points, intact=intact)
@@ -95,7 +96,7 @@ class RimFracture:
                 self.rim_triaxiality[k] = float(gauge.triaxiality[np.argmax(damage)])
             element = damage.reshape(elems.size, self.nqp).max(axis=1)  # Eq. F67
             self.rim_damage[k] = float(element.max()) if element.size else 0.0
-            for e in elems[(element >= 1.0) & (before[elems] == 1.0)]:
+            for e in elems[(element >= 1.0) & whole]:
                 self.torn.setdefault(int(e), (t, self.rims[k]))
                 if self.steps:
                     self.retained[e] = 1.0 - 1.0 / self.steps
