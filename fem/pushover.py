@@ -17,6 +17,9 @@ from rigid.bearing import DFPBearing
 
 __all__ = ["BottomPlate", "Pushover", "bottom_plate", "rim_pushover"]
 
+#: A push with erosion ends once its force is below this fraction of its peak after a tear.
+SEPARATED = 0.02
+
 
 @dataclass(frozen=True)
 class BottomPlate:
@@ -77,7 +80,14 @@ class Pushover:
         (Eq. F66).
     fracture_displacement, fracture_force : float or None [m, N]
         With ``fracture``: at the first step at which an element's damage reached 1 (the
-        tear begins; nothing is let go in a static push).
+        tear begins).
+    torn_elements : int
+        With ``fracture``: the pushed rim's elements torn by the end of the push.
+    corner : ndarray, shape (steps, 2) [m]
+        Where the rim's inner top corner K is at each step (x, z, deformed).
+    separated : bool
+        With erosion: the push ended because the torn rim was off (its force below
+        :data:`SEPARATED` of its peak).
     """
 
     displacement: np.ndarray
@@ -96,6 +106,9 @@ class Pushover:
     triaxiality: np.ndarray = field(default_factory=lambda: np.zeros(0))
     fracture_displacement: float | None = None
     fracture_force: float | None = None
+    torn_elements: int = 0
+    corner: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    separated: bool = False
 
 
 def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
@@ -132,7 +145,8 @@ def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
 def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
                  displacement: float | None = None, steps: int = 40,
                  mesh_options: dict | None = None, plasticity: bool = True,
-                 fracture=None, stop_short: bool = False, cache_dir=None) -> Pushover:
+                 fracture=None, erosion_steps: int = 0, stop_short: bool = False,
+                 cache_dir=None) -> Pushover:
     """Push the +x bottom rim outward by a uniform horizontal displacement of the upper half of
     its inner face.
 
@@ -156,7 +170,12 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         False keeps the steel elastic.
     fracture : {"steep", "median", "mild"} or fem.fracture.StressModifiedStrain, optional
         Track the pushed rim's ductile damage (as :func:`fem.simulate` does) and record where
-        it first tears; nothing is let go.
+        it first tears.
+    erosion_steps : int
+        With ``fracture``: N > 0 lets each torn element go over N accepted increments (Eq.
+        F68, as :func:`fem.simulate` does over time steps) and ends the push once the force
+        has fallen below :data:`SEPARATED` of its peak after a tear (the rim is off); 0
+        (default) lets nothing go.
     stop_short : bool
         Where Newton fails even with tiny increments, return the push as far as it went
         (its ``displacement[-1]`` short of the final δ) instead of raising RuntimeError.
@@ -191,14 +210,15 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     state = (FiniteState if kinematics == "finite" else MaterialState).virgin(fe.point_shape)
     u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
     out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0], "damage": [0.0],
-           "triax": [0.0]}
+           "triax": [0.0], "corner": [(0.0, 0.0)]}
     hinge = tear = None
+    separated = False
     tracker = None
     if fracture is not None:
         from .fracture import RimFracture, criterion_of
 
         tracker = RimFracture(criterion_of(fracture, bearing.rupture_strain), fe, plate.mesh,
-                              bearing.rim_thickness, steps=0, rims=("bottom +x",))
+                              bearing.rim_thickness, steps=erosion_steps, rims=("bottom +x",))
         rim, average = tracker.elements[0], tracker.gauges[0].operator  # its gauge, Eq. F52
     else:
         rim, average = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
@@ -206,7 +226,12 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     while delta < delta_end * (1 - 1e-12):
         target = min(delta + h, delta_end)
         values = np.concatenate([np.zeros(n_support), np.full(plate.face.size, target)])
-        res = solve_increment(fe, steel, state, u, zero, fixed, values, rtol=1e-8, max_iter=15)
+        held, kept = fixed, values
+        if fe.retained is not None:  # nodes of elements that have all let go: held where they are
+            loose = np.setdiff1d(nd.ravel(), fe.element_dofs[:, fe.retained > 0].ravel())
+            loose = np.setdiff1d(loose, fixed)
+            held, kept = np.concatenate([fixed, loose]), np.concatenate([values, u[loose]])
+        res = solve_increment(fe, steel, state, u, zero, held, kept, rtol=1e-8, max_iter=15)
         if not res.converged:  # cut the increment back
             h *= 0.5
             if h < 1e-6 * delta_end:
@@ -226,14 +251,19 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         out["frac"].append(frac)
         out["p"].append(float(p.max()))
         out["avg"].append(float((average @ p[rim].ravel()).max()))
+        out["corner"].append(u[nd[:, plate.face[-1]]])
         if hinge is None and frac >= 1.0:
             hinge = (delta, force)
         if tracker is not None:
-            tracker.update(delta, p, res.stress)
+            if tracker.update(delta, p, res.stress):
+                fe.retained = tracker.retained.copy()
             out["damage"].append(tracker.rim_damage[0])
             out["triax"].append(tracker.rim_triaxiality[0])
             if tear is None and tracker.first_tear is not None:
                 tear = (delta, force)
+            if tear is not None and erosion_steps and force < SEPARATED * max(out["f"]):
+                separated = True  # the rim is off: nothing left to push
+                break
     return Pushover(
         displacement=np.array(out["d"]), force=np.array(out["f"]),
         yielded_fraction=np.array(out["frac"]),
@@ -246,4 +276,7 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         triaxiality=np.array(out["triax"]) if tracker is not None else np.zeros(0),
         fracture_displacement=None if tear is None else tear[0],
         fracture_force=None if tear is None else tear[1],
+        torn_elements=0 if tracker is None else len(tracker.torn),
+        corner=plate.mesh.p[:, plate.face[-1]] + np.array(out["corner"]),
+        separated=separated,
     )

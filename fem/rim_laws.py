@@ -16,10 +16,12 @@ from rigid.bearing import DFPBearing
 from rigid.rims import (
     ELASTIC_PUSH,
     FINE_PUSH,
+    TEARING_PUSH,
     RimLaw,
     load_rim_law,
     rim_law_cache_file,
     rim_law_from_push,
+    rim_law_through_tearing,
     save_rim_law,
 )
 
@@ -28,7 +30,8 @@ from .pushover import rim_pushover
 __all__ = ["rim_law"]
 
 
-def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", cache: bool = True) -> RimLaw:
+def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str | None = None,
+            cache: bool = True) -> RimLaw:
     """The law of the bearing's rims, from pushes of its rim by the FE companion, cached in the
     library's cache folder (:func:`rigid.rims.rim_law_cache_file`) per model, geometry and
     steel.
@@ -43,6 +46,11 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", cache: bool = T
         20 s of CPU the first time. ``"ring"``: the 3-D push of the rim as a ring by the
         slider, a rigid cylinder (small strain, default 3-D mesh; "The rim as a ring", Eqs.
         F54–F58), minutes of CPU the first time.
+    fracture : {"steep", "median", "mild"}, optional
+        The law through tearing (plane strain only): the push goes on with the rim's ductile
+        damage and lets its torn elements go (Eqs. F66–F68) until the rim is off, and the law
+        follows the falling force and the corner's height (Eqs. R55b, R56c, R64;
+        :func:`rigid.rims.rim_law_through_tearing`), about a minute of CPU the first time.
     cache : bool
         Read and write the cache.
 
@@ -50,16 +58,17 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", cache: bool = T
     -------
     rigid.rims.RimLaw
     """
-    path = rim_law_cache_file(bearing, model)
+    path = rim_law_cache_file(bearing, model, fracture)
     if cache and path.exists():
         return load_rim_law(path)
-    law = _plane_strain_law(bearing) if model == "plane-strain" else _ring_law(bearing)
+    law = (_ring_law(bearing) if model == "ring"
+           else _plane_strain_law(bearing, fracture))
     if cache:
         save_rim_law(law, path)
     return law
 
 
-def _plane_strain_law(bearing: DFPBearing) -> RimLaw:
+def _plane_strain_law(bearing: DFPBearing, fracture: str | None) -> RimLaw:
     elastic = rim_pushover(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
     stiffness = float(elastic.force[-1] / elastic.displacement[-1])
     reach, steps = FINE_PUSH
@@ -67,8 +76,13 @@ def _plane_strain_law(bearing: DFPBearing) -> RimLaw:
     while fine.hinge_displacement is None and 2 * reach <= bearing.rim_height / 2:
         reach, steps = 2 * reach, 2 * steps
         fine = rim_pushover(bearing, displacement=reach, steps=steps)
-    full = rim_pushover(bearing)
-    return rim_law_from_push(bearing, stiffness, fine, full)
+    if fracture is None:
+        return rim_law_from_push(bearing, stiffness, fine, rim_pushover(bearing))
+    increment, erosion_steps = TEARING_PUSH
+    reach = bearing.rim_thickness + bearing.rim_height
+    torn = rim_pushover(bearing, displacement=reach, steps=round(reach / increment),
+                        fracture=fracture, erosion_steps=erosion_steps, stop_short=True)
+    return rim_law_through_tearing(bearing, stiffness, fine, torn)
 
 
 def _ring_law(bearing: DFPBearing) -> RimLaw:

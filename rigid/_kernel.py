@@ -40,10 +40,13 @@ P_R, P_HALF_B, P_HS, P_HALF_HE, P_RIN, P_TR, P_ZTOP = 0, 1, 2, 3, 4, 5, 6
 P_K, P_XI, P_MU, P_MU_RIM, P_Y, P_MS, P_JS, P_M, P_G = 7, 8, 9, 10, 11, 12, 13, 14, 15
 P_MEFF_BOT, P_MEFF_TOP, P_DMAX, P_MERGE, P_DFAR, P_DNEAR = 16, 17, 18, 19, 20, 21
 # yielding rims (docs/theory/rigid-body.md, "Yielding rims"): flag, rim height, elastic
-# stiffness, lever of the rim's bending, plastic sets at the hinge and at rupture, criterion
+# stiffness, lever of the rim's bending, plastic sets at the hinge and at rupture, criterion;
+# a law through tearing: 1 if the corner heights come from the law's table (Eq. R55b), and
+# the set at which a rim is off (Eq. R64; inf: never)
 P_YIELDING, P_HR, P_KEL, P_LEVER, P_UP_HINGE, P_UP_RUPTURE, P_CRITERION = (
     22, 23, 24, 25, 26, 27, 28)
-N_PARAMS = 29
+P_CORNER, P_UP_OFF = 29, 30
+N_PARAMS = 31
 #: failure criteria (P_CRITERION): the limit state that ends a run with yielding rims
 CRIT_CONTAINMENT, CRIT_HINGE, CRIT_RUPTURE = 0, 1, 2
 
@@ -76,8 +79,8 @@ N_SUMMARY = 24
 STATUS_OK, STATUS_FAILED, STATUS_NUMERICAL = 0, 1, 2
 FAIL_BOTTOM_RIM, FAIL_TOP_RIM, FAIL_CENTROID, FAIL_OVERTURN = 1, 2, 3, 4
 # yielding rims: a hinge or a rupture (the criterion asked for), a vertex got through a bent
-# bottom or top rim (Eq. R63)
-FAIL_HINGE, FAIL_RUPTURE, FAIL_THROUGH_BOTTOM, FAIL_THROUGH_TOP = 5, 6, 7, 8
+# bottom or top rim (Eq. R63), a torn rim came off (Eq. R64)
+FAIL_HINGE, FAIL_RUPTURE, FAIL_THROUGH_BOTTOM, FAIL_THROUGH_TOP, FAIL_TORN_OFF = 5, 6, 7, 8, 9
 NUM_NAN, NUM_PENETRATION, NUM_ENERGY, NUM_JUMP = 10, 11, 12, 13
 #: energy residual, relative to the input energy, beyond which the run counts as unstable
 #: (Eq. R46)
@@ -368,15 +371,23 @@ B_CONTACTS = 3
 @njit(cache=True)
 def backbone_force(law, up):
     """Rim force on the backbone at plastic set ``up`` [m]: linear between the rows of
-    ``law`` (plastic set [m], force [N]), flat past the last row (Eq. R56)."""
+    ``law`` (plastic set [m], force [N], corner height [m]), flat past the last row (Eq.
+    R56)."""
+    return _law_at(law, up, 1)
+
+
+@njit(cache=True)
+def _law_at(law, up, column):
+    """Column ``column`` of the law's table at plastic set ``up`` [m]: linear between its
+    rows, flat past either end."""
     n = law.shape[0]
     if up <= law[0, 0]:
-        return law[0, 1]
+        return law[0, column]
     for i in range(1, n):
         if up <= law[i, 0]:
-            return law[i - 1, 1] + (law[i, 1] - law[i - 1, 1]) * (up - law[i - 1, 0]) / (
-                law[i, 0] - law[i - 1, 0])
-    return law[n - 1, 1]
+            return law[i - 1, column] + (law[i, column] - law[i - 1, column]) * (
+                up - law[i - 1, 0]) / (law[i, 0] - law[i - 1, 0])
+    return law[n - 1, column]
 
 
 @njit(cache=True)
@@ -457,15 +468,20 @@ def rim_response(buf, n, k, k_el, law, up0):
 
 
 @njit(cache=True)
-def rim_geometry(p, q, r, up):
+def rim_geometry(p, q, r, up, law):
     """A rim bent outward by its plastic set ``up`` [m] (Eq. R55): its inner face moved
     outward by u_p, and lowered to the height h_r·cos φ it keeps when it turns by φ about its
-    root, sin φ = u_p/L (L = p[P_LEVER], at most a right angle). Returns the face's x, the
-    root's z and the face's height towards the free end (upward for bottom rims, downward
-    for top rims) [m]. Rims 0–3 as RIM_NAMES; top rims relative to the top plate."""
+    root, sin φ = u_p/L (L = p[P_LEVER], at most a right angle); with a law through tearing
+    (p[P_CORNER]) the height is the corner's in the push at that set instead (Eq. R55b, the
+    law's third column). Returns the face's x, the root's z and the face's height towards
+    the free end (upward for bottom rims, downward for top rims) [m]. Rims 0–3 as
+    RIM_NAMES; top rims relative to the top plate."""
     side = 1.0 if r % 2 == 1 else -1.0
-    sphi = min(1.0, up / p[P_LEVER])
-    height = p[P_HR] * math.sqrt(1.0 - sphi * sphi)
+    if p[P_CORNER] > 0.0:
+        height = _law_at(law, up, 2)
+    else:
+        sphi = min(1.0, up / p[P_LEVER])
+        height = p[P_HR] * math.sqrt(1.0 - sphi * sphi)
     if r >= 2:
         return q[3] + side * (p[P_RIN] + up), q[4] + p[P_HS] - p[P_ZTOP] + p[P_HR], height
     return side * (p[P_RIN] + up), p[P_ZTOP] - p[P_HR], height
@@ -498,7 +514,7 @@ def _yielding_rims(p, q, v, Z, h, gen, acc, rimf, vert, stiff, rim_set, law, buf
         px, pz = vert[j, 0], vert[j, 1]
         side = 1.0 if px - (q[3] if is_top else 0.0) >= 0.0 else -1.0
         r = (2 if is_top else 0) + (1 if side > 0 else 0)
-        xf, z0, height = rim_geometry(p, q, r, rim_set[r])
+        xf, z0, height = rim_geometry(p, q, r, rim_set[r], law)
         u = side * (px - xf)  # depth past the inner face
         w = height - sz * (pz - z0)  # depth below the free end
         if u > 0.0 and u < tr and w > 0.0:
@@ -516,7 +532,7 @@ def _yielding_rims(p, q, v, Z, h, gen, acc, rimf, vert, stiff, rim_set, law, buf
     R = p[P_R]
     for r in range(N_RIMS):  # corners against the slider's section (slots 8–11, Eq. R24)
         side = 1.0 if r % 2 == 1 else -1.0
-        xf, z0, height = rim_geometry(p, q, r, rim_set[r])
+        xf, z0, height = rim_geometry(p, q, r, rim_set[r], law)
         kx, kz = xf, z0 + (-height if r >= 2 else height)
         delta, nx, nz = _corner_contact(kx - xs, kz - zs, c, s, hb, hs, R)
         if delta <= 0.0:
@@ -560,14 +576,14 @@ def _yielding_rims(p, q, v, Z, h, gen, acc, rimf, vert, stiff, rim_set, law, buf
         if h > 0.0 and d > 0.0:
             # plastic work: the force across the rim over the set, and the load on its end
             # over the drop of the end that the set brings (Eq. R61)
-            drop = rim_geometry(p, q, r, up0)[2] - rim_geometry(p, q, r, up0 + d)[2]
+            drop = rim_geometry(p, q, r, up0, law)[2] - rim_geometry(p, q, r, up0 + d, law)[2]
             acc[A_PLAS] += 0.5 * (backbone_force(law, up0) + force) * d + end_load * drop
             rim_set[r] = up0 + d
     return dmax
 
 
 @njit(cache=True)
-def _containment_yielding(p, q, vert, rim_set):
+def _containment_yielding(p, q, vert, rim_set, law):
     """Loss of containment with bent rims (0: none), Eq. R63: a vertex beyond the bent inner
     corner of the rim it faces, horizontally outside and vertically past it — over the rim
     (FAIL_BOTTOM_RIM/FAIL_TOP_RIM) if it is also past the corner's unbent height, through it
@@ -577,7 +593,7 @@ def _containment_yielding(p, q, vert, rim_set):
         px, pz = vert[j, 0], vert[j, 1]
         side = 1.0 if px - (q[3] if is_top else 0.0) >= 0.0 else -1.0
         r = (2 if is_top else 0) + (1 if side > 0 else 0)
-        kx, z0, height = rim_geometry(p, q, r, rim_set[r])
+        kx, z0, height = rim_geometry(p, q, r, rim_set[r], law)
         kz = z0 + (-height if is_top else height)
         if side * (px - kx) <= 0.0:
             continue
@@ -967,8 +983,10 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
             beyond = abs(q[2]) > 0.25 * math.pi  # a vertex past an unbent face, or tipped
             for j in range(4):
                 beyond = beyond or abs(vert[j, 0] - (q[3] if j >= 2 else 0.0)) > p[P_RIN]
+            if t_lost < 0.0 and most >= p[P_UP_OFF]:  # a torn rim came off (Eq. R64)
+                lost, t_lost = FAIL_TORN_OFF, t
             if t_lost < 0.0 and beyond:  # containment can only be lost then (Eq. R63)
-                lost = _containment_yielding(p, q, vert, rim_set)
+                lost = _containment_yielding(p, q, vert, rim_set, law)
                 if lost != 0:
                     t_lost = t
             if fail_code == 0:

@@ -40,10 +40,11 @@ _FAILURE_DETAIL = {
     K.FAIL_RUPTURE: "a rim reached its rupture set",
     K.FAIL_THROUGH_BOTTOM: "a bottom vertex got through a bent bottom rim",
     K.FAIL_THROUGH_TOP: "a top vertex got through a bent top rim",
+    K.FAIL_TORN_OFF: "a torn rim came off",
 }
-_PHYSICAL = (K.FAIL_BOTTOM_RIM, K.FAIL_TOP_RIM, K.FAIL_CENTROID, K.FAIL_OVERTURN, K.FAIL_HINGE,
-             K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP)
-_YIELDING = (K.FAIL_HINGE, K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP)
+_YIELDING = (K.FAIL_HINGE, K.FAIL_RUPTURE, K.FAIL_THROUGH_BOTTOM, K.FAIL_THROUGH_TOP,
+             K.FAIL_TORN_OFF)
+_PHYSICAL = (K.FAIL_BOTTOM_RIM, K.FAIL_TOP_RIM, K.FAIL_CENTROID, K.FAIL_OVERTURN, *_YIELDING)
 __all__ = ["DEFAULT_MAX_STEP", "FAR_STEP", "RIM_NAMES", "EnergyBalance", "Impact",
            "NumericalInstabilityError", "SimulationResult", "check_model_input", "simulate"]
 
@@ -263,7 +264,7 @@ def simulate(
 
     p = kernel_parameters(bearing)
     p[K.P_MERGE] = impact_merge_time
-    law = np.zeros((1, 2))
+    law = np.zeros((1, 3))
     if rims == "yielding":
         law = _set_rim_parameters(p, bearing, limit_state, rim_law)
     n_samples = math.floor(duration / dt + 1e-9)
@@ -361,6 +362,8 @@ def _set_rim_parameters(p, bearing: DFPBearing, limit_state: str, law) -> np.nda
     p[K.P_LEVER] = law.lever
     p[K.P_UP_HINGE] = law.hinge_set
     p[K.P_UP_RUPTURE] = law.rupture_set
+    p[K.P_CORNER] = 1.0 if law.corner_height.size else 0.0
+    p[K.P_UP_OFF] = law.off_set
     p[K.P_CRITERION] = {"containment": K.CRIT_CONTAINMENT, "hinge": K.CRIT_HINGE,
                         "rupture": K.CRIT_RUPTURE}[limit_state]
     return law.table

@@ -22,7 +22,8 @@ import numpy as np
 from .bearing import DFPBearing
 
 __all__ = ["RIM_LAW_MODELS", "RimLaw", "load_rim_law", "resolve_rim_law", "rim_law",
-           "rim_law_cache_file", "rim_law_from_push", "save_rim_law"]
+           "rim_law_cache_file", "rim_law_from_push", "rim_law_through_tearing",
+           "save_rim_law"]
 
 #: The models a law can come from (``fem.rim_law(bearing, model=…)``): pushes of the
 #: plane-strain rim times the depth πb/4 (Eqs. F1–F3), or the 3-D push of the rim as a ring
@@ -47,6 +48,11 @@ LEVER_FRACTION = 0.75
 #: of the input on ten pulses, one run numerical, against at most 0.7 % with 0.5;
 #: docs/theory/rigid-body.md, "Yielding rims").
 LAST_COS = 0.5
+#: The push through tearing (fem.rim_pushover with fracture and erosion, run by
+#: fem.rim_law(bearing, fracture=…)): increments of at most 0.25 mm, a torn element let go
+#: over 10 of them (Eq. F68), as far as the rim's thickness plus its height (the 40 mm rim
+#: is off near 38 mm) or until the rim is off (Eq. R64).
+TEARING_PUSH = (2.5e-4, 10)
 
 
 @dataclass(frozen=True)
@@ -80,6 +86,15 @@ class RimLaw:
         its free end (Eq. R55).
     push_displacement, push_force : ndarray [m, N]
         The push curve the law was derived from (for the static check and the figures).
+    corner_height : ndarray [m]
+        A law through tearing (:func:`rim_law_through_tearing`): the height of the rim's
+        inner top corner above its root at each backbone row, measured in the push (Eq.
+        R55b); empty for a law without it, whose rim turns about its root (Eq. R55).
+    tear_set : float [m]
+        A law through tearing: u_p at the push's first torn element; inf otherwise.
+    off_set : float [m]
+        A law through tearing: u_p at which the torn rim is off, its push force below 2 % of
+        its peak (Eq. R64); inf for a rim that does not tear off within the push.
     """
 
     stiffness: float
@@ -94,11 +109,17 @@ class RimLaw:
     lever: float
     push_displacement: np.ndarray
     push_force: np.ndarray
+    corner_height: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    tear_set: float = math.inf
+    off_set: float = math.inf
 
     @property
     def table(self) -> np.ndarray:
-        """The backbone as the kernel reads it: rows of (u_p [m], F [N])."""
-        return np.ascontiguousarray(np.column_stack([self.plastic_set, self.force]))
+        """The backbone as the kernel reads it: rows of (u_p [m], F [N], corner height [m];
+        the heights 0 where the law has none)."""
+        heights = (self.corner_height if self.corner_height.size
+                   else np.zeros_like(self.plastic_set))
+        return np.ascontiguousarray(np.column_stack([self.plastic_set, self.force, heights]))
 
     def backbone(self, plastic_set) -> np.ndarray:
         """Backbone force [N] at plastic sets [m] (linear between rows, flat past the end)."""
@@ -147,6 +168,46 @@ def rim_law_from_push(bearing: DFPBearing, stiffness: float, fine, full) -> RimL
     )
 
 
+def rim_law_through_tearing(bearing: DFPBearing, stiffness: float, fine, torn) -> RimLaw:
+    """Build the law through tearing (Eqs. R55b, R56c, R64) from an elastic stiffness [N/m],
+    the ``fine`` push to the hinge (as :func:`rim_law_from_push`) and a push with fracture
+    and erosion, ``torn`` (:class:`fem.pushover.Pushover` with ``fracture`` and
+    ``erosion_steps``), to the rim's coming off or as far as Newton goes.
+
+    The backbone is made non-decreasing up to the push's first torn element and follows the
+    push's falling force past it; each row carries the height of the rim's inner top corner
+    above its root there; the first tear is the rupture (as Eq. F67 makes it in the FE
+    model), and the last row is where the rim is off if the push ended so."""
+    root = bearing.dish_depth(bearing.rim_radius)
+    keep = torn.displacement > fine.displacement[-1] * (1 + 1e-9)
+    d = np.concatenate([fine.displacement, torn.displacement[keep]])
+    f = np.concatenate([fine.force, torn.force[keep]])
+    h = np.concatenate([fine.corner[:, 1], torn.corner[keep, 1]]) - root
+    up = d - f / stiffness
+    first = int(np.flatnonzero(up > 0)[0])
+    at_zero = slice(first - 1, first + 1)  # where the push leaves the elastic line
+    f0 = float(np.interp(0.0, up[at_zero], f[at_zero]))
+    sets = np.maximum.accumulate(np.concatenate([[0.0], up[first:]]))
+    forces = np.concatenate([[f0], f[first:]])
+    heights = np.concatenate([[np.interp(0.0, up[at_zero], h[at_zero])], h[first:]])
+    tear_d = torn.fracture_displacement
+    whole = np.concatenate([[True], d[first:] < (math.inf if tear_d is None else tear_d)])
+    forces[whole] = np.maximum.accumulate(forces[whole])  # a prefix: flat past the peak
+    keep = np.concatenate([[True], np.diff(sets) > 0])
+    sets, forces, heights = sets[keep], forces[keep], heights[keep]
+    law = rim_law_from_push(bearing, stiffness, fine, torn)
+    if tear_d is None:
+        tear_set = rupture_d = rupture_set = math.inf
+    else:
+        rupture_d = float(tear_d)
+        tear_set = rupture_set = rupture_d - float(torn.fracture_force) / stiffness
+    return dataclasses.replace(
+        law, plastic_set=sets, force=forces, corner_height=heights,
+        rupture_displacement=rupture_d, rupture_set=float(rupture_set),
+        tear_set=float(tear_set), off_set=float(sets[-1]) if torn.separated else math.inf,
+        push_displacement=d, push_force=f)
+
+
 def _beyond_push(sets, forces, lever):
     """The backbone past the push's last row (Eq. R56b): the rim's root moment stays that of
     the last row while the lever over which the slider pushes it, L·cos φ with
@@ -158,28 +219,33 @@ def _beyond_push(sets, forces, lever):
             np.concatenate([forces, forces[-1] * c_end / cos]))
 
 
-def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain") -> Path:
+def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain",
+                       fracture: str | None = None) -> Path:
     """Where the law of a bearing's rims is cached: ``rim-laws/<key>.npz`` in the library's
     cache folder (:func:`rigid.tasks.cache_root`), keyed by the model it comes from
     (:data:`RIM_LAW_MODELS`), the rim geometry and steel (every field of the bearing but the
-    pressure), the push settings above and the code of the pushing model and of this module
+    pressure), the push settings above, the fracture criterion of a law through tearing
+    (keyed only when set) and the code of the pushing model and of this module
     (``code_hash("fem", "rim-law")`` or ``code_hash("fem-ring", "rim-law")``)."""
     from .tasks import cache_root, task_key
 
     if model not in RIM_LAW_MODELS:
         raise ValueError(f"model must be one of {', '.join(RIM_LAW_MODELS)}, got {model!r}")
+    if fracture is not None and model != "plane-strain":
+        raise ValueError("a law through tearing comes from the plane-strain push only")
     # the bottom plate and its steel: everything but the load on it
     inputs = {k: v for k, v in dataclasses.asdict(bearing).items() if k != "pressure"}
     code = ("fem", "rim-law") if model == "plane-strain" else ("fem-ring", "rim-law")
+    tearing = {} if fracture is None else {"fracture": fracture, "tearing": TEARING_PUSH}
     key = task_key("rim-law", code, model=model, bearing=inputs, fine=FINE_PUSH,
-                   elastic=ELASTIC_PUSH, lever=LEVER_FRACTION, last_cos=LAST_COS)
+                   elastic=ELASTIC_PUSH, lever=LEVER_FRACTION, last_cos=LAST_COS, **tearing)
     return cache_root() / "rim-laws" / f"{key}.npz"
 
 
 def load_rim_law(path: Path) -> RimLaw:
     """A law saved by :func:`save_rim_law` (an ``.npz`` file of its fields)."""
     with np.load(path) as data:
-        fields = {f.name: data[f.name] for f in dataclasses.fields(RimLaw)}
+        fields = {f.name: data[f.name] for f in dataclasses.fields(RimLaw) if f.name in data}
     return RimLaw(**{k: (v if v.ndim else float(v)) for k, v in fields.items()})
 
 

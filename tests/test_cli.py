@@ -86,6 +86,17 @@ def test_slider_edges_the_slider_cannot_have(tmp_path):
     assert not (out / "results.sqlite").exists()
 
 
+def test_a_law_through_tearing_needs_the_plane_strain_push(tmp_path):
+    """--rim-fracture with --rim-model ring is refused before anything runs, in one line
+    naming the option (the law through tearing comes from the plane-strain push)."""
+    out = tmp_path / "o"
+    _one_line_error(dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)),
+                        "--rim-fracture", "median", "--rim-model", "ring", "--no-fem",
+                        "--out", str(out)),
+                    "--rim-fracture", "plane-strain")
+    assert not (out / "results.sqlite").exists()
+
+
 def test_bad_number_from_argparse(tmp_path):
     result = dfp("demo", "--period", "-1")
     assert result.returncode == 2 and "must be between 0.05 and 20 s" in result.stderr

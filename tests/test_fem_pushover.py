@@ -101,6 +101,27 @@ def test_a_push_tears_where_todays_rupture_is_reached(heavy, mesh_cache):
     assert -1 / 3 < median.triaxiality[-1] < 1 / 3
 
 
+def test_a_push_with_erosion_tears_the_rim_off(heavy, mesh_cache):
+    """With erosion (Eq. F68 over accepted increments) the push is the push without it, bit
+    for bit, up to the first tear (nothing has been let go before it); after it the force
+    falls as the torn elements go, and the push ends once it is below 2 % of its peak
+    (``SEPARATED``), well past the tear, with elements torn. Coarse mesh (two elements across
+    the 40 mm rim): the cheapest mesh that tears through."""
+    from fem.pushover import SEPARATED
+
+    options = {"mesh_options": {"rim_size": 0.02}, "fracture": "median",
+               "cache_dir": mesh_cache}  # increments of 0.25 mm at most in both
+    whole = rim_pushover(heavy, displacement=0.016, steps=64, **options)
+    torn = rim_pushover(heavy, displacement=0.04, steps=160, erosion_steps=10,
+                        stop_short=True, **options)
+    assert torn.fracture_displacement == whole.fracture_displacement is not None
+    k = int(np.searchsorted(whole.displacement, whole.fracture_displacement)) + 1
+    np.testing.assert_array_equal(torn.force[:k], whole.force[:k])
+    assert torn.force[-1] < SEPARATED * torn.force.max()
+    assert torn.displacement[-1] > torn.fracture_displacement + 0.005
+    assert torn.torn_elements > whole.torn_elements > 0
+
+
 def test_the_tear_begins_where_calculix_says(heavy, mesh_cache):
     """The median criterion's damage in the push (default mesh, to 14 mm) against the same
     damage accumulated from CalculiX's C3D8I points (docs/results/rim_fracture_ccx.csv,

@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import errno
 import logging
-import math
 import re
 import signal
 import sys
@@ -29,8 +28,6 @@ import warnings
 
 from rigid.limit_states import LIMIT_STATES, RIM_MODELS
 from rigid.limits import (
-    MAX_SA_STOP,
-    PRESSURE_RANGE,
     RECORD_DT_RANGE,
     RICKER_AMPLITUDE_MAX,
     RICKER_PERIOD_RANGE,
@@ -39,6 +36,7 @@ from rigid.motions import ALL_WEIGHTINGS, FEMA_P695_SETS, KINDS, MAX_PULSE_PERIO
 from rigid.rims import RIM_LAW_MODELS
 from rigid.units import G
 
+from .arguments import PRESSURE, STOP, number, positive
 from .commands import (  # the commands, and what their help texts quote
     FULL_FEM_STEP,
     LADDER_TOP,
@@ -77,46 +75,6 @@ def one_line(text, limit: int = MAX_MESSAGE) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
-def _number(kind, low=None, high=None, unit="", why="", low_open=False):
-    """An argparse type: a finite number of ``kind`` in [low, high] (``low_open``: above
-    low), in the command line's units (``unit``, for the message)."""
-
-    def parse(text):
-        try:
-            value = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not a number: {text[:40]!r}") from None
-        ok = math.isfinite(value)
-        if ok and low is not None:
-            ok = value > low if low_open else value >= low
-        if ok and high is not None:
-            ok = value <= high
-        if not ok:
-            if low_open and low == 0 and high is None:
-                bounds = "positive and finite"
-            elif low_open and low == 0:
-                bounds = f"positive and at most {high:g}{unit}"
-            elif high is None:
-                bounds = f"at least {low:g}{unit}"
-            else:
-                bounds = f"between {low:g} and {high:g}{unit}"
-            reason = f" ({why}; docs/limits.md)" if why else ""
-            raise argparse.ArgumentTypeError(f"must be {bounds}{reason}, got {text[:40]}")
-        return value
-
-    return parse
-
-
-def _positive(kind):
-    return _number(kind, 0, None, low_open=True)
-
-
-_PRESSURE = _number(float, PRESSURE_RANGE[0] / 1e6, PRESSURE_RANGE[1] / 1e6, " MPa",
-                    "what sliding bearings are designed for")
-_STOP = _number(float, 0, MAX_SA_STOP / G, " g", "every studied record fails below 1.5 g",
-                low_open=True)
-
-
 def _bearing_args(p, pressures=False):
     """``--bearing FILE`` and the options of the common fields (:mod:`validation.bearing_file`;
     an option wins over the file). ``pressures``: ``--pressure`` takes several (validate)."""
@@ -129,10 +87,10 @@ def _bearing_args(p, pressures=False):
                    "docs/bearing.md (dfp bearing --template writes one); the options below "
                    "override it")
     if pressures:
-        p.add_argument("--pressure", type=_PRESSURE, nargs="+",
+        p.add_argument("--pressure", type=PRESSURE, nargs="+",
                        help="slider pressures [MPa], 1-200 (default: the file's, else 60 10)")
     else:
-        p.add_argument("--pressure", type=_PRESSURE,
+        p.add_argument("--pressure", type=PRESSURE,
                        help="slider pressure [MPa], 1-200 (paper: 60 heavy, 10 light; default: "
                        "the file's, else 10)")
     helps = {"radius": "radius of each sliding surface [m]",
@@ -148,7 +106,7 @@ def _bearing_args(p, pressures=False):
         low, high, unit, low_open = option_range(option)
         name, _, factor = OPTIONS[option]
         p.add_argument("--" + option.replace("_", "-"),
-                       type=_number(float, low, high, f" {unit}" if unit else "",
+                       type=number(float, low, high, f" {unit}" if unit else "",
                                     low_open=low_open),
                        help=f"{text}, {low:g}-{high:g} (default "
                        f"{getattr(baseline, name) / factor:g})")
@@ -166,7 +124,7 @@ def _rim_args(p):
 def _record_args(p, required):
     p.add_argument("--record", required=required,
                    help="record file (PEER AT2, K-NET, JMA CSV or plain text)")
-    p.add_argument("--dt", type=_number(float, *RECORD_DT_RANGE, " s",
+    p.add_argument("--dt", type=number(float, *RECORD_DT_RANGE, " s",
                                         "accelerographs sample at 10-10,000 Hz"),
                    help="time step [s] of a plain text record, 1e-4 to 0.1")
     p.add_argument("--units", help="units of a plain text record (g, m/s2, gal, ...)")
@@ -237,17 +195,17 @@ def _simulate_parsers(sub):
         p = sub.add_parser(name, help=helptext, description=simulate.__doc__)
         _bearing_args(p)
         p.add_argument("--amplitude", default=0.8,
-                       type=_number(float, 0, RICKER_AMPLITUDE_MAX / G, " g",
+                       type=number(float, 0, RICKER_AMPLITUDE_MAX / G, " g",
                                     "the largest recorded ground motions reach about 4 g",
                                     low_open=True),
                        help="pulse amplitude Ap [g], up to 10 (default 0.8)")
         p.add_argument("--period", default=3.0,
-                       type=_number(float, *RICKER_PERIOD_RANGE, " s",
+                       type=number(float, *RICKER_PERIOD_RANGE, " s",
                                     "from a 20 Hz pulse to beyond the longest velocity pulses"),
                        help="pulse period Tp [s], 0.05-20 (default 3)")
         p.add_argument("--kind", choices=KINDS, default="symmetric", help="Ricker pulse shape")
         _record_args(p, required=False)
-        p.add_argument("--scale", type=_positive(float), default=1.0,
+        p.add_argument("--scale", type=positive(float), default=1.0,
                        help="scale factor of the record (default 1; the scaled peak must stay "
                        "within 10 g)")
         _rim_args(p)
@@ -270,7 +228,7 @@ def _pulse_args(p):
     p.add_argument("--weighting", choices=(ALL_WEIGHTINGS, *WEIGHTINGS), default=ALL_WEIGHTINGS,
                    help="wavelet weighting w(s): 'all' pools the candidates of the three, as "
                    "the paper does (default); 1/sqrt(s) alone is the one unbiased on a pure pulse")
-    p.add_argument("--max-period", type=_positive(float), default=MAX_PULSE_PERIOD,
+    p.add_argument("--max-period", type=positive(float), default=MAX_PULSE_PERIOD,
                    help=f"longest pulse period searched [s] (default {MAX_PULSE_PERIOD:g}, the "
                    "paper's limit)")
 
@@ -281,11 +239,11 @@ def _critical_parser(sub):
                        description=critical.__doc__)
     _bearing_args(p)
     _record_args(p, required=True)
-    p.add_argument("--stop", type=_STOP, default=LADDER_TOP,
+    p.add_argument("--stop", type=STOP, default=LADDER_TOP,
                    help=f"highest SA(4.5 s) of the ladder [g], up to 5 (default {LADDER_TOP:g}, "
                    "as every dfp command)")
     p.add_argument("--search", choices=("fast", "full"), default="full", help="ladder search")
-    p.add_argument("--after-failure", type=_number(int, 0, 1000), default=10,
+    p.add_argument("--after-failure", type=number(int, 0, 1000), default=10,
                    help="rungs run above the first failure, to show resurrections (default 10)")
     p.add_argument("--criterion", type=int, choices=(1, 2, 3, 4), default=4,
                    help="pulse selection criterion of the prediction (default 4)")
@@ -321,11 +279,11 @@ def _validate_parser(sub):
                    "records, criteria 3 and 4, FE critical SA for the shortest record at the "
                    f"first pressure on the coarse mesh with {QUICK_FEM_STEP:g} s steps "
                    "(about 2 minutes on 2 cores)")
-    p.add_argument("--records", type=_positive(int), help="use only the first N components")
+    p.add_argument("--records", type=positive(int), help="use only the first N components")
     _bearing_args(p, pressures=True)
     p.add_argument("--criteria", type=int, nargs="+", choices=[1, 2, 3, 4],
                    help="pulse selection criteria (default all; --quick: 3 and 4, the paper's)")
-    p.add_argument("--stop", type=_STOP, default=LADDER_TOP,
+    p.add_argument("--stop", type=STOP, default=LADDER_TOP,
                    help=f"highest SA(4.5 s) of the ladder [g], up to 5 (default {LADDER_TOP:g}, "
                    "as every dfp command)")
     p.add_argument("--search", choices=("fast", "full"), default="fast",
@@ -337,19 +295,19 @@ def _validate_parser(sub):
     p.add_argument("--fem-mesh", choices=("coarse", "default"), default="coarse",
                    help="FE mesh: coarse (905 dofs, default) or default (4301 dofs, ~10x "
                    "slower)")
-    p.add_argument("--fem-step", type=_number(float, 0, 0.1, " s", low_open=True),
+    p.add_argument("--fem-step", type=number(float, 0, 0.1, " s", low_open=True),
                    help=f"FE time step [s] while sliding (default {FULL_FEM_STEP:g}; --quick: "
                    f"{QUICK_FEM_STEP:g})")
-    p.add_argument("--fem-records", type=_positive(int),
+    p.add_argument("--fem-records", type=positive(int),
                    help=f"FE runs for the N shortest records only (default all; --quick: "
                    f"{QUICK_FEM_RECORDS})")
-    p.add_argument("--fem-pressure", type=_PRESSURE, nargs="+",
+    p.add_argument("--fem-pressure", type=PRESSURE, nargs="+",
                    help="pressures [MPa] with FE runs (default all; --quick: the first)")
     p.add_argument("--fem-fracture", choices=("steep", "median", "mild"),
                    help="FE rims that tear: ductile damage with a critical strain that falls "
                    "with the stress triaxiality (the three constants' sets; default none: the "
                    "steel never tears; docs/theory/finite-elements.md, 'Rim fracture')")
-    p.add_argument("--fem-edge-radius", type=_number(float, 0, None, " mm"), default=0.0,
+    p.add_argument("--fem-edge-radius", type=number(float, 0, None, " mm"), default=0.0,
                    help="FE slider's rounded edges, radius [mm], below half the height of its "
                    "flat sides (default 0: sharp, the rigid model's; docs/fe-companion.md, "
                    "'Rounded slider edges')")
@@ -368,13 +326,18 @@ def _validate_parser(sub):
                    "(default), or the 3-D push of the rim as a ring (the yielding rims' law, "
                    "and the FE rims' effective depth at the one limit state searched; the "
                    "first use of a rim geometry runs a 3-D push, a few minutes)")
+    p.add_argument("--rim-fracture", choices=("steep", "median", "mild"),
+                   help="the yielding rims' law through tearing: the plane-strain push goes "
+                   "on with the ductile damage of that set until the rim is off, and a rim "
+                   "that comes off loses containment (default: --fem-fracture's set with FE "
+                   "runs, else none; docs/theory/rigid-body.md, 'Rims that tear')")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes);"
                    " the results come back here, the workers need no view of --out")
-    p.add_argument("--worker-wait", type=_number(float, 0, 86400, " s"), default=WORKER_WAIT,
+    p.add_argument("--worker-wait", type=number(float, 0, 86400, " s"), default=WORKER_WAIT,
                    help="with --scheduler: longest wait [s] for a Dask worker, at the start "
                    f"and whenever all have left (default {WORKER_WAIT:g})")
-    p.add_argument("--workers", type=_number(int, 1, MAX_WORKERS),
+    p.add_argument("--workers", type=number(int, 1, MAX_WORKERS),
                    help=f"local worker processes (1-{MAX_WORKERS})")
     p.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bars")

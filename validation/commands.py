@@ -320,6 +320,10 @@ def validate(args) -> int:
     if args.rim_model == "ring" and fem is not None and len(fem.limit_states) != 1:
         raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
                            "the limit state searched: give one --limit-state per run")
+    rim_fracture = args.rim_fracture or (args.fem_fracture if fem is not None else None)
+    if rim_fracture and args.rim_model == "ring":
+        raise CommandError("--rim-fracture: the law through tearing comes from the "
+                           "plane-strain push; it cannot go with --rim-model ring")
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
         ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
     if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
@@ -327,7 +331,8 @@ def validate(args) -> int:
 
         try:
             with ResultStore(out / "results.sqlite") as store:
-                keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay)
+                keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay,
+                              fracture=rim_fracture if "yielding" in args.rims else None)
         except MissingResultsError as exc:
             raise CommandError(str(exc)) from None
     if args.rim_model == "ring" and fem is not None:
@@ -339,7 +344,7 @@ def validate(args) -> int:
         fem_records=args.fem_records or (QUICK_FEM_RECORDS if args.quick else None),
         rims=tuple(dict.fromkeys(["rigid", *args.rims])),
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
-        bearing=bearing, rim_model=args.rim_model,
+        bearing=bearing, rim_model=args.rim_model, rim_fracture=rim_fracture,
     )
     if not args.replay:
         with open(out / "progress.log", "a") as fh:  # a first line at once (#32): rims' law

@@ -51,6 +51,9 @@ class Settings:
     rim_model : {"plane-strain", "ring"}
         Where the yielding rims' law comes from (:func:`fem.rim_law`'s ``model``); with
         "ring" the FE settings carry the ring's effective depth (``FESettings.rim_depth``).
+    rim_fracture : {"steep", "median", "mild"} or None
+        The yielding rims' law through tearing with that fracture set (:func:`fem.rim_law`'s
+        ``fracture``); None: the law without tearing.
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -65,6 +68,7 @@ class Settings:
     yielding_states: tuple | None = None
     bearing: tuple = ()
     rim_model: str = "plane-strain"
+    rim_fracture: str | None = None
 
     def bearing_at(self, pressure: float) -> DFPBearing:
         """The bearing of the run at ``pressure`` [Pa]."""
@@ -86,7 +90,9 @@ class Settings:
                "SA stop [g]": self.stop / G, "ladder search": self.search,
                "rigid model's rims": ", ".join(self.rims)
                + (f" (yielding: {', '.join(self.ladder_states())}; law from the "
-                  f"{self.rim_model} push)" if self.ladder_states() else "")}
+                  f"{self.rim_model} push" + (f", through tearing ({self.rim_fracture})"
+                                               if self.rim_fracture else "") + ")"
+                  if self.ladder_states() else "")}
         if self.bearing:
             from .bearing_file import describe_variant
 
@@ -194,7 +200,8 @@ def rigid_tasks(motions, settings: Settings, out: Path):
 
                 kwargs["yielding_states"] = list(settings.ladder_states())
                 kwargs["rim_law"] = rim_law(settings.bearing_at(pressure),  # cached
-                                            model=settings.rim_model)
+                                            model=settings.rim_model,
+                                            fracture=settings.rim_fracture)
             models = ("rigid", "rim-law", "motions", "collapse") if settings.ladder_states() \
                 else ("rigid", "motions", "collapse")
             key = task_key("rigid-record", models, **kwargs)

@@ -33,10 +33,11 @@ def _from_json(data: dict) -> RimLaw:
 
 
 def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
-                  replay: bool = False) -> None:
+                  replay: bool = False, fracture: str | None = None) -> None:
     """Make the rim laws of ``bearing`` from each of ``models`` ("plane-strain", "ring") be
     both in ``store`` and in the library's cache, so that :func:`fem.rim_law` and
-    :func:`fem.effective_rim_depth` read them.
+    :func:`fem.effective_rim_depth` read them; with ``fracture``, the plane-strain law
+    through tearing with that set too (:func:`fem.rim_law`'s ``fracture``).
 
     A law found in the store is written to the cache if the cache lacks it; a law in neither
     is pushed by the FE companion (cached) and stored, unless ``replay``: then
@@ -45,8 +46,11 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
     from fem import rim_law
 
     missing = []
-    for model in dict.fromkeys(models):
-        path = rim_law_cache_file(bearing, model)
+    wanted = [(model, None) for model in dict.fromkeys(models)]
+    if fracture is not None:
+        wanted.append(("plane-strain", fracture))
+    for model, torn in wanted:
+        path = rim_law_cache_file(bearing, model, torn)
         key = path.stem
         stored = store.get(key)
         if stored is not None:
@@ -58,7 +62,7 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
         elif replay:
             missing.append(model)
         else:
-            store.put(key, "rim-law", _to_json(rim_law(bearing, model=model)))
+            store.put(key, "rim-law", _to_json(rim_law(bearing, model=model, fracture=torn)))
     if missing:
         from collections import Counter
 
