@@ -197,6 +197,9 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         raise ValueError(f"kinematics must be 'small' or 'finite', got {kinematics!r}")
     if int(steps) != steps or steps < 1:
         raise ValueError(f"steps must be a positive integer, got {steps!r}")
+    if erosion_steps and (fracture is None or kinematics != "finite"):
+        raise ValueError("erosion_steps needs fracture and finite kinematics (the torn "
+                         "elements let go through the finite-strain element's weights)")
     delta_end = 0.5 * bearing.rim_height if displacement is None else float(displacement)
     if not (math.isfinite(delta_end) and delta_end > 0):
         raise ValueError(f"displacement must be a positive length [m], got {displacement!r}")
@@ -227,7 +230,7 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         target = min(delta + h, delta_end)
         values = np.concatenate([np.zeros(n_support), np.full(plate.face.size, target)])
         held, kept = fixed, values
-        if fe.retained is not None:  # nodes of elements that have all let go: held where they are
+        if getattr(fe, "retained", None) is not None:  # nodes whose elements all let go: held
             loose = np.setdiff1d(nd.ravel(), fe.element_dofs[:, fe.retained > 0].ravel())
             loose = np.setdiff1d(loose, fixed)
             held, kept = np.concatenate([fixed, loose]), np.concatenate([values, u[loose]])

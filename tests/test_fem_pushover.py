@@ -122,6 +122,15 @@ def test_a_push_with_erosion_tears_the_rim_off(heavy, mesh_cache):
     assert torn.torn_elements > whole.torn_elements > 0
 
 
+def test_erosion_needs_fracture_and_finite_kinematics(heavy):
+    """Erosion without a criterion, or at small strain (whose element has no weights to let
+    go), is refused before anything is pushed."""
+    for options in ({"erosion_steps": 10}, {"erosion_steps": 10, "fracture": "median",
+                                             "kinematics": "small"}):
+        with pytest.raises(ValueError, match="erosion_steps needs fracture"):
+            rim_pushover(heavy, **options)
+
+
 def test_the_tear_begins_where_calculix_says(heavy, mesh_cache):
     """The median criterion's damage in the push (default mesh, to 14 mm) against the same
     damage accumulated from CalculiX's C3D8I points (docs/results/rim_fracture_ccx.csv,
