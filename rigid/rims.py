@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .bearing import DFPBearing
+from .tasks.store import KEYED_WHEN_SET
 
 __all__ = ["RIM_LAW_MODELS", "RimLaw", "load_rim_law", "resolve_rim_law", "rim_law",
            "rim_law_cache_file", "rim_law_from_push", "rim_law_through_tearing",
@@ -109,9 +110,12 @@ class RimLaw:
     lever: float
     push_displacement: np.ndarray
     push_force: np.ndarray
-    corner_height: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
-    tear_set: float = math.inf
-    off_set: float = math.inf
+    # a law through tearing's own (keyed only when set: the keys of runs with other laws
+    # stay as they were)
+    corner_height: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0),
+                                                  metadata=KEYED_WHEN_SET)
+    tear_set: float = dataclasses.field(default=math.inf, metadata=KEYED_WHEN_SET)
+    off_set: float = dataclasses.field(default=math.inf, metadata=KEYED_WHEN_SET)
 
     @property
     def table(self) -> np.ndarray:

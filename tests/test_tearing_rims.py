@@ -163,3 +163,22 @@ def test_dfp_validate_gives_the_rigid_model_the_law_through_tearing(tmp_path, mo
                      "--rim-fracture", "median", "--out", str(out)]) == 0
     assert asked.count("median") == 2  # one to keep it in the store, one for the ladders
     assert "through tearing (median)" in (out / "report.html").read_text()
+
+
+def test_a_law_without_tearing_keeps_its_key():
+    """The fields of a law through tearing key a stored run only when set, so the runs of
+    the laws without them keep their keys (and can be carried over to new code); set, each
+    changes the key."""
+    from rigid.tasks.store import _canonical, task_key
+
+    law, _ = _law()
+    plain = dataclasses.replace(law, corner_height=np.zeros(0), tear_set=math.inf,
+                                off_set=math.inf)
+    fields = {f.name for f in dataclasses.fields(plain)}
+    assert set(_canonical(plain)) == fields - {"corner_height", "tear_set", "off_set"} | {
+        "__type__"}
+    keys = {task_key("t", ("rigid",), law=x) for x in (
+        plain, law, dataclasses.replace(plain, off_set=law.off_set),
+        dataclasses.replace(plain, tear_set=law.tear_set),
+        dataclasses.replace(plain, corner_height=law.corner_height))}
+    assert len(keys) == 5

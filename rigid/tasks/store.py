@@ -37,11 +37,21 @@ from .cache import code_hash
 #: Bump when the layout or meaning of stored results changes (code changes are in the key).
 SCHEMA = "dfp-results-2"
 
+#: Metadata of a dataclass field that keys a result only when it differs from its default
+#: (``dataclasses.field(..., metadata=KEYED_WHEN_SET)``): a new option, off by default,
+#: leaves the keys of the results computed without it as they were.
+KEYED_WHEN_SET = {"keyed": "when set"}
+
 
 def _canonical(value):
-    """JSON-ready form of an input; arrays are replaced by their SHA-256."""
+    """JSON-ready form of an input; arrays are replaced by their SHA-256; a dataclass's
+    fields marked :data:`KEYED_WHEN_SET` are left out while at their defaults."""
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {"__type__": type(value).__name__, **_canonical(dataclasses.asdict(value))}
+        fields = dataclasses.asdict(value)
+        for f in dataclasses.fields(value):
+            if f.metadata.get("keyed") == KEYED_WHEN_SET["keyed"] and _at_default(f, value):
+                del fields[f.name]
+        return {"__type__": type(value).__name__, **_canonical(fields)}
     if isinstance(value, np.ndarray):
         data = np.ascontiguousarray(value)
         digest = hashlib.sha256(data.tobytes()).hexdigest()
@@ -55,6 +65,16 @@ def _canonical(value):
     if value is None or isinstance(value, (bool, int, float, str)):
         return value
     raise TypeError(f"cannot hash an input of type {type(value).__name__}")
+
+
+def _at_default(field, value) -> bool:
+    """Whether the dataclass ``value`` holds its default in ``field``."""
+    default = (field.default_factory() if field.default_factory is not dataclasses.MISSING
+               else field.default)
+    now = getattr(value, field.name)
+    if isinstance(now, np.ndarray) or isinstance(default, np.ndarray):
+        return np.array_equal(np.asarray(now), np.asarray(default))
+    return now == default
 
 
 #: Called with ``(key, kind, models, canonical inputs)`` by every :func:`task_key` when set
