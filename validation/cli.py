@@ -330,7 +330,8 @@ def _validate_parser(sub):
                    help="the yielding rims' law through tearing: the plane-strain push goes "
                    "on with the ductile damage of that set until the rim is off, and a rim "
                    "that comes off loses containment (default: --fem-fracture's set with FE "
-                   "runs, else none; docs/theory/rigid-body.md, 'Rims that tear')")
+                   "runs and the plane-strain rim model, else none; "
+                   "docs/theory/rigid-body.md, 'Rims that tear')")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes);"
                    " the results come back here, the workers need no view of --out")

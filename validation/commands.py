@@ -320,10 +320,11 @@ def validate(args) -> int:
     if args.rim_model == "ring" and fem is not None and len(fem.limit_states) != 1:
         raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
                            "the limit state searched: give one --limit-state per run")
-    rim_fracture = args.rim_fracture or (args.fem_fracture if fem is not None else None)
-    if rim_fracture and args.rim_model == "ring":
+    if args.rim_fracture and args.rim_model == "ring":
         raise CommandError("--rim-fracture: the law through tearing comes from the "
                            "plane-strain push; it cannot go with --rim-model ring")
+    rim_fracture = args.rim_fracture or (
+        args.fem_fracture if fem is not None and args.rim_model == "plane-strain" else None)
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
         ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
     if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
