@@ -27,10 +27,15 @@
    summed CPU times (one run's count of Newton iterations moves by about 10 % on round-off
    alone, BENCHMARKS.md, so a set says more than one run).
 
+6. Rims that tear (``--tearing``): the heavy bearing's one-second sine pulse of 3 m/s² (as
+   tests/test_erosion.py), coarse mesh, steps of at most 20 ms, run to 2 s or the loss of
+   containment, without fracture and with the median criterion, with sharp slider edges and
+   with edges of 20 mm (the validation's with tearing).
+
 Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N] [--kinematics |
---active-gradient G ... | --past-hinge-set]`` (about 10 minutes on 2 cores with the default 3
+--active-gradient G ... | --past-hinge-set | --tearing]`` (about 10 minutes on 2 cores with the default 3
 repeats; ``--kinematics`` alone runs only part 3, about 8 minutes; part 4 about 1 minute per
-value; part 5 about 5 minutes).
+value; part 5 about 5 minutes; part 6 about 5 minutes per repeat).
 ``--quick`` skips the 0.3 g run.
 """
 
@@ -106,6 +111,28 @@ def post_hinge_run(cache: str, **options):
                        max_step=0.01, limit_state="containment", cache_dir=cache,
                        **options)
     return res, time.perf_counter() - t0, time.process_time() - c0
+
+
+def tearing_run(cache: str, **options):
+    """The heavy bearing's sine pulse to 2 s or the loss of containment (module docstring,
+    part 6)."""
+    t = np.arange(0.0, 2.0 + 0.005, 0.01)
+    a = np.where(t < 1.0, 3.0 * np.sin(np.pi * t), 0.0)
+    t0, c0 = time.perf_counter(), time.process_time()
+    res = fem.simulate(DFPBearing(pressure=60e6), a, 0.01, max_step=0.02,
+                       mesh_options=COARSE_MESH, limit_state="containment", cache_dir=cache,
+                       **options)
+    return res, time.perf_counter() - t0, time.process_time() - c0
+
+
+def tearing_comparison(cache: str, repeat: int) -> None:
+    print(f"\nRims that tear: sine pulse, heavy bearing, coarse mesh (median of {repeat}):")
+    for radius in (0.0, 0.02):
+        for fracture in (None, "median"):
+            runs = [tearing_run(cache, fracture=fracture, edge_radius=radius)
+                    for _ in range(repeat)]
+            torn = len(runs[0][0].torn_elements)
+            report(f"edges {radius * 1e3:g} mm, fracture {fracture}, {torn} torn", runs)
 
 
 def report(label: str, runs) -> None:
@@ -187,6 +214,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as cache:
         if "--kinematics" in sys.argv:
             kinematics_comparison(cache, repeat)
+            return
+        if "--tearing" in sys.argv:
+            tearing_comparison(cache, repeat)
             return
         if "--past-hinge-set" in sys.argv:
             past_hinge_set(cache)

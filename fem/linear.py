@@ -219,6 +219,11 @@ class TangentSolver:
         rhs : ndarray, shape (nreduced,) [N/m]
         """
         self.solves += 1
+        retained = getattr(self.system.fe, "retained", None)
+        if retained is not None and (retained < 1.0).any():
+            # torn elements let go (Eq. F68): the update of the intact elastic matrix would
+            # span them and cancel their stiffness, ill-conditioned; solve the matrix itself
+            return self._assembled(ev, c0, s, rhs)
         base = self._base(c0, s)
         if base.frozen is not None and base.stale:
             base = self._freeze(ev, c0, s)
@@ -289,5 +294,9 @@ class TangentSolver:
     def _direct(self, ev, c0, s, rhs):
         """Direct sparse LU of the assembled matrix (the fallback)."""
         self.fallbacks += 1
+        return self._assembled(ev, c0, s, rhs)
+
+    def _assembled(self, ev, c0, s, rhs):
+        """x from a sparse LU of the assembled (c₀ M + s K(ev))."""
         K = self.red.reduce_matrix(ev.stiffness) * s + sp.diags(c0 * self.M)
         return spsolve(K.tocsc(), rhs)

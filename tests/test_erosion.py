@@ -190,6 +190,8 @@ def test_a_rim_tears_and_lets_go_with_the_energy_booked(tearing_run):
     scale = np.abs(e.input).max()
     assert np.abs(e.residual).max() <= 0.01 * scale
     assert np.abs(np.diff(e.residual)).max() <= 0.01 * scale
-    assert e.fracture[-1] > 0.0 and np.all(np.diff(e.fracture) >= 0.0)
+    # booked releases never negative, to round-off: each is a difference of two sums of the
+    # strain energy at one configuration (one came out at -8.6e-12 J of a 7e5 J input)
+    assert e.fracture[-1] > 0.0 and np.all(np.diff(e.fracture) >= -1e-15 * scale)
     assert res.rim_damage.shape == (res.time.size, 4)
     assert math.isclose(res.rim_damage[-1].max(), res.rim_damage.max())
