@@ -33,9 +33,9 @@
    with edges of 20 mm (the validation's with tearing).
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/bench_fem.py [--quick] [--repeat N] [--kinematics |
---active-gradient G ... | --past-hinge-set | --tearing]`` (about 10 minutes on 2 cores with the default 3
-repeats; ``--kinematics`` alone runs only part 3, about 8 minutes; part 4 about 1 minute per
-value; part 5 about 5 minutes; part 6 about 5 minutes per repeat).
+--active-gradient G ... | --past-hinge-set | --tearing]`` (about 10 minutes on 2 cores with
+the default 3 repeats; ``--kinematics`` alone runs only part 3, about 8 minutes; part 4
+about 1 minute per value; part 5 about 5 minutes; part 6 about 5 minutes per repeat).
 ``--quick`` skips the 0.3 g run.
 """
 
