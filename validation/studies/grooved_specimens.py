@@ -60,7 +60,7 @@ def quarter_bar(a: float, radius: float | None):
     """The quarter of the bar, x ∈ [0, edge(y)] across, y ∈ [0, HALF_LENGTH] along, as a
     mapped quadrilateral mesh graded towards the ligament (y = 0) and its centre (x = 0):
     the groove's arc, centred at (a + R, 0), is the edge up to where it meets the bar's
-    outer face x = 2a; a smooth bar is a wide."""
+    outer face x = 2a; a smooth bar's edge is x = a throughout."""
     from skfem import MeshQuad1
 
     nx, ny = ELEMENTS
@@ -81,7 +81,8 @@ def quarter_bar(a: float, radius: float | None):
 
 def pull(bearing: DFPBearing, radius: float | None, criterion, reach: float = 1.5) -> dict:
     """Pull the quarter bar until the centre's damage passes ``reach`` (or Newton stops):
-    the centre's path (plastic strain, triaxiality, damage) and where D = 1."""
+    the centre's path (the end's pull [m], plastic strain, triaxiality, damage: arrays), the
+    CPU time [s] and the dofs."""
     from fem.finite_element import FiniteStrainQ1
     from fem.hencky import FiniteState
     from fem.material import Material
@@ -97,7 +98,7 @@ def pull(bearing: DFPBearing, radius: float | None, criterion, reach: float = 1.
     bottom = np.flatnonzero(np.abs(y) < 1e-12)
     top = np.flatnonzero(np.abs(y - HALF_LENGTH) < 1e-12)
     fixed = np.concatenate([nd[0, left], nd[1, bottom], nd[1, top]])
-    # the element at the centre of the ligament and its point nearest to it
+    # the element at the centre of the ligament; its points' mean stands for the centre
     centre = int(np.argmin(np.hypot(*mesh.p[:, mesh.t].mean(axis=1))))
     state = FiniteState.virgin(fe.point_shape)
     u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
@@ -140,8 +141,8 @@ def main() -> None:
         path = pull(bearing, radius, criterion)
         a = HALF_LIGAMENT
         closed = closed_form_triaxiality(a, radius)
-        k = int(np.argmax(path["D"] >= 1.0)) if path["D"][-1] >= 1.0 else None
-        p_f = float(np.interp(1.0, path["D"], path["p"])) if k else math.nan
+        p_f = (float(np.interp(1.0, path["D"], path["p"])) if path["D"][-1] >= 1.0
+               else math.nan)
         plastic = path["p"] > 0
         weights = np.diff(path["p"], prepend=0.0)
         upto = plastic & (path["D"] <= 1.0)
