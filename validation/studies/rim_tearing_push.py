@@ -1,5 +1,5 @@
 """The rim torn off in a static push: the force through the tear, from its first element to
-the rim's separation (issue #31 item 5; docs/theory/finite-elements.md, Eqs. F66–F68): the
+the rim's separation (issue #31 item 5; docs/theory/finite-elements.md, Eqs. F66–F68, F70): the
 rim push (:func:`fem.rim_pushover`, finite deformation) with ``fracture=`` and
 ``erosion_steps=``, the torn elements let go over N accepted increments of at most 0.25 mm,
 until the force is below 2 % of its peak or Newton stops. On the 40 mm rim: four meshes with
@@ -23,20 +23,22 @@ from pathlib import Path
 from fem.pushover import rim_pushover
 from rigid import DFPBearing
 from rigid.collapse.comparison import write_csv
+from rigid.rims import TEARING_PUSH
 
 from . import IMAGES, RESULTS
 from .rim_fracture_push import MESHES
 
-#: The largest push increment [m]: N increments of it are how far a torn element lets go.
-INCREMENT = 2.5e-4
+#: The largest push increment [m] and N, as the law through tearing's push (``fem.rim_law``):
+#: N increments are how far a torn element lets go.
+INCREMENT, N = TEARING_PUSH
 #: (rim thickness [m], mesh, criterion, N, reach [m]) of each push.
 PUSHES = (
-    *((0.04, mesh, "median", 10, 0.045) for mesh in MESHES),
-    (0.04, "default", "steep", 10, 0.045),
-    (0.04, "default", "mild", 10, 0.045),
+    *((0.04, mesh, "median", N, 0.045) for mesh in MESHES),
+    (0.04, "default", "steep", N, 0.045),
+    (0.04, "default", "mild", N, 0.045),
     (0.04, "default", "median", 1, 0.045),
-    (0.08, "coarse", "median", 10, 0.04),
-    (0.08, "default", "median", 10, 0.04),
+    (0.08, "coarse", "median", N, 0.04),
+    (0.08, "default", "median", N, 0.04),
 )
 
 
@@ -81,12 +83,12 @@ def plot(curves: list[dict], path: Path) -> None:
     for c in curves:
         if c["rim_thickness_mm"] != 40:
             continue
-        if c["fracture_set"] == "median" and c["erosion_steps"] == 10:
+        if c["fracture_set"] == "median" and c["erosion_steps"] == N:
             axes[0].plot(c["d"] * 1e3, c["f"] / 1e6, label=f"{c['mesh']} ({c['dofs']} dofs)")
         if c["mesh"] == "default":
             axes[1].plot(c["d"] * 1e3, c["f"] / 1e6,
                          label=f"{c['fracture_set']}, N = {c['erosion_steps']}")
-    axes[0].set_title("40 mm rim, median criterion, N = 10: meshes")
+    axes[0].set_title(f"40 mm rim, median criterion, N = {N}: meshes")
     axes[1].set_title("40 mm rim, default mesh: criteria and N")
     for ax in axes:
         ax.set_xlabel("push displacement of the face [mm]")
