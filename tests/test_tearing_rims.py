@@ -139,6 +139,8 @@ def test_dfp_validate_gives_the_rigid_model_the_law_through_tearing(tmp_path, mo
     the run's store, runs the yielding-rim ladders with it and says so in the report. The FE
     pushes are replaced by the synthetic law (they take a minute; the law they give is
     tested above and in test_fem_pushover.py)."""
+    from test_cli import _pulse_manifest
+
     import fem
     from validation import cli
 
@@ -152,12 +154,8 @@ def test_dfp_validate_gives_the_rigid_model_the_law_through_tearing(tmp_path, mo
 
     monkeypatch.setattr(fem, "rim_law", fake_rim_law)
     monkeypatch.setenv("DFP_CACHE_DIR", str(tmp_path / "cache"))
-    _, a = ricker_record(0.2 * G, 2.5, "antisymmetric", dt=0.01, free=8.0)
-    np.savetxt(tmp_path / "pulse.txt", a / G)
-    manifest = tmp_path / "records.csv"
-    manifest.write_text("path,name,scale,dt,units\npulse.txt,pulse,1.0,0.01,g\n")
     out = tmp_path / "out"
-    assert cli.main(["validate", "--manifest", str(manifest), "--pressure", "60",
+    assert cli.main(["validate", "--manifest", str(_pulse_manifest(tmp_path)), "--pressure", "60",
                      "--criteria", "4", "--stop", "1.2", "--workers", "1", "--no-progress",
                      "--no-fem", "--rims", "yielding", "--limit-state", "containment",
                      "--rim-fracture", "median", "--out", str(out)]) == 0
