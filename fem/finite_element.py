@@ -21,7 +21,8 @@ __all__ = ["FiniteEvaluation", "FiniteStrainQ1"]
 #: are given the small-strain elastic stiffness in Newton's solves (:mod:`fem.linear`); their
 #: exact tangent differs from it by about this fraction, which can only slow Newton's
 #: convergence, never change the solution (docs/fe-companion.md: the same iteration counts
-#: as with 1e-3, for a third less time).
+#: as with 1e-3, for a third less time), except near a tear
+#: (:data:`fem.linear.TORN_ACTIVE_GRADIENT`).
 ACTIVE_GRADIENT = 1e-2
 
 
@@ -134,12 +135,13 @@ class FiniteStrainQ1(PlaneStrainQ1):
                               weights)
         return ev, force
 
-    def active_elements(self, ev: FiniteEvaluation) -> np.ndarray:
+    def active_elements(self, ev: FiniteEvaluation, gradient: float | None = None) -> np.ndarray:
         """Elements whose tangent is not the small-strain elastic one: any point yields, the
-        displacement gradient exceeds :data:`ACTIVE_GRADIENT`, or the element lets go (Eq.
-        F68)."""
+        displacement gradient exceeds ``gradient`` [-] (default :data:`ACTIVE_GRADIENT`), or
+        the element lets go (Eq. F68)."""
+        gradient = ACTIVE_GRADIENT if gradient is None else gradient
         H = ev.gradient - np.eye(2)[:, :, None, None]
-        big = np.sqrt((H * H).sum(axis=(0, 1))).max(axis=1) > ACTIVE_GRADIENT
+        big = np.sqrt((H * H).sum(axis=(0, 1))).max(axis=1) > gradient
         if self.retained is not None:
             big |= self.retained < 1.0
         return np.flatnonzero(big | ev.plastic.any(axis=1))

@@ -25,6 +25,13 @@ REFINE_TOL = 1e-12
 #: (Eq. F35a; measured: BENCHMARKS.md, "Finite deformation against small strain").
 FREEZE_AFTER = 24
 
+#: Once elements have torn (Eq. F35b), the displacement gradient [-] above which an element
+#: carries its exact tangent in the assembled matrix; those below keep the small-strain
+#: elastic one. Ten times finer than :data:`fem.finite_element.ACTIVE_GRADIENT`: near a tear
+#: that threshold multiplied Newton's iterations (measured: docs/theory/finite-elements.md,
+#: Eq. F35b).
+TORN_ACTIVE_GRADIENT = 1e-3
+
 
 def factorize(A: sp.spmatrix):
     """Sparse LU of a (nearly) symmetric matrix: minimum degree on Aᵀ + A, diagonal pivots
@@ -129,10 +136,12 @@ class TangentSolver:
             self._bases.move_to_end(key)
         return base
 
-    def modification(self, ev, s: float, base: _Base | None = None):
+    def modification(self, ev, s: float, base: _Base | None = None,
+                     gradient: float | None = None):
         """The reduced dofs S, the dense block W = s(ΔK_mat + K_c) on them (ΔK_mat taken
-        against ``base``'s frozen elements, which are left out while elastic), and the number
-        of elastic elements in it."""
+        against ``base``'s frozen elements, which are left out while elastic; ``gradient``:
+        :meth:`fem.system.CoupledSystem.material_blocks`'), and the number of elastic elements
+        in it."""
         blocks, dofs = [], []
         con = ev.contact
         active = np.flatnonzero(con.active)
@@ -146,7 +155,7 @@ class TangentSolver:
             blocks.append(vblocks)
             dofs.append(self._col[vdofs])
         frozen = base.frozen if base is not None else None
-        elements, material = self.system.material_blocks(ev, frozen)
+        elements, material = self.system.material_blocks(ev, frozen, gradient)
         elastic = int((~ev.material.plastic[elements].any(axis=1)).sum())
         if frozen is not None and elements.size:
             hit = frozen[elements]  # frozen but yielding now: against their frozen block
@@ -223,7 +232,7 @@ class TangentSolver:
         if retained is not None and (retained < 1.0).any():
             # torn elements let go (Eq. F68): the update of the intact elastic matrix would
             # span them and cancel their stiffness, ill-conditioned; solve the matrix itself
-            return self._assembled(ev, c0, s, rhs)
+            return self._torn(ev, c0, s, rhs)
         base = self._base(c0, s)
         if base.frozen is not None and base.stale:
             base = self._freeze(ev, c0, s)
@@ -295,6 +304,16 @@ class TangentSolver:
         """Direct sparse LU of the assembled matrix (the fallback)."""
         self.fallbacks += 1
         return self._assembled(ev, c0, s, rhs)
+
+    def _torn(self, ev, c0, s, rhs):
+        """x from a sparse LU of c₀M + s(K_el + W), W the exact tangent less K_el on the
+        elements past :data:`TORN_ACTIVE_GRADIENT` and the contacts (Eq. F35b)."""
+        S, W, _ = self.modification(ev, s, gradient=TORN_ACTIVE_GRADIENT)
+        A = sp.diags(c0 * self.M) + s * self.K_el
+        if S.size:
+            i, j = np.nonzero(W)
+            A = A + sp.csr_matrix((W[i, j], (S[i], S[j])), shape=A.shape)
+        return factorize(A).solve(rhs)
 
     def _assembled(self, ev, c0, s, rhs):
         """x from a sparse LU of the assembled (c₀ M + s K(ev))."""

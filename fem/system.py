@@ -196,7 +196,7 @@ class CoupledSystem:
             K = K + sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=K.shape)
         return K
 
-    def material_blocks(self, ev: Evaluation, skip=None):
+    def material_blocks(self, ev: Evaluation, skip=None, gradient: float | None = None):
         """The elements whose material tangent differs from the elastic small-strain stiffness
         K_el of :attr:`fe` (yielding, or, with finite kinematics, also noticeably deformed:
         :meth:`fem.finite_element.FiniteStrainQ1.active_elements`), and K_mat − K_el on them.
@@ -207,6 +207,9 @@ class CoupledSystem:
         skip : ndarray of bool, shape (nelems,), optional
             Finite kinematics: elements left out unless a point of theirs yields
             (:class:`fem.linear.TangentSolver`'s frozen ones).
+        gradient : float [-], optional
+            Finite kinematics: the displacement gradient above which an element carries its
+            exact tangent (default :data:`fem.finite_element.ACTIVE_GRADIENT`).
 
         Returns
         -------
@@ -216,7 +219,7 @@ class CoupledSystem:
         fe, mat = self.fe, ev.material
         elastic = self.material.elastic_tangent()
         if self.finite:
-            e = fe.active_elements(mat)
+            e = fe.active_elements(mat, gradient)
             if skip is not None:
                 e = e[~skip[e] | mat.plastic[e].any(axis=1)]
             exact = fe.element_tangent(self.material, mat, e) if e.size else np.zeros((0, 8, 8))

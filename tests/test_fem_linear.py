@@ -131,15 +131,16 @@ def turned(mesh_cache):
     return model, at
 
 
-def _solver_matrix(model, ev, c0, s, replaced):
+def _solver_matrix(model, ev, c0, s, replaced, gradient=None):
     """The reduced c₀M + sK the solver stands for at ``ev``: the exact tangent, except the
-    elements below ACTIVE_GRADIENT that do not yield (their small-strain elastic block, by
-    design of the low-rank update) and those in ``replaced`` (element → its block)."""
+    elements below ``gradient`` (default ACTIVE_GRADIENT) that do not yield (their small-strain
+    elastic block, by design of the low-rank update) and those in ``replaced`` (element → its
+    block)."""
     sysm = model.system
     fe, mat = sysm.fe, ev.material
     nel = fe.element_dofs.shape[1]
     blocks = dict(replaced)
-    inactive = np.setdiff1d(np.arange(nel), fe.active_elements(mat))
+    inactive = np.setdiff1d(np.arange(nel), fe.active_elements(mat, gradient))
     for e, k in zip(inactive, fe.element_stiffness(sysm.material.elastic_tangent(), inactive),
                     strict=True):
         blocks.setdefault(int(e), k)
@@ -205,3 +206,40 @@ def test_frozen_tangents(turned, monkeypatch):
     assert solver.freezes == 3 and not solver._bases[(c0, s)].frozen.any()
     x4d = spsolve(_solver_matrix(model, rest, c0, s, {}).tocsc(), rhs)
     assert np.linalg.norm(x4 - x4d) <= 1e-9 * np.linalg.norm(x4d)
+
+
+def test_torn_solve(turned):
+    """Eq. F35b. With elements letting go, the solve is a direct LU of the exact tangent
+    except on the elements below TORN_ACTIVE_GRADIENT that do not yield (1e-9 relative, as
+    above). The plate is turned by 5e-3 rad, so its elements' gradients (about 7e-3) lie
+    between that threshold and ACTIVE_GRADIENT: the matrix with the coarser threshold gives
+    a solution farther off than round-off (> 1e-6), so the test tells the two apart."""
+    from fem.dynamics import Integrator
+    from fem.linear import TORN_ACTIVE_GRADIENT
+
+    model, at = turned
+    sysm = model.system
+    fe = sysm.fe
+    nel = fe.element_dofs.shape[1]
+    intact = (fe.retained, sysm.nodes)
+    retained = np.ones(nel)
+    rim = model.mesh.subdomains["bottom_rim"]
+    retained[rim[:3]] = [0.5, 0.25, 0.0]
+    try:
+        sysm.erode(retained)
+        solver = Integrator(model, lambda t: 0.0).solver
+        hht = HHTParameters()
+        h = 5e-4
+        c0, s = 1.0 / (hht.beta * h * h), 1.0 + hht.alpha
+        rhs = np.random.default_rng(6).standard_normal(model.reduction.nreduced) * 1e6
+        ev = at(0.005, bend=0.002)
+        between = np.setdiff1d(fe.active_elements(ev.material, TORN_ACTIVE_GRADIENT),
+                               fe.active_elements(ev.material))
+        assert between.size > 10
+        x = solver.solve(ev, c0, s, rhs)
+        xd = spsolve(_solver_matrix(model, ev, c0, s, {}, TORN_ACTIVE_GRADIENT).tocsc(), rhs)
+        assert np.linalg.norm(x - xd) <= 1e-9 * np.linalg.norm(xd)
+        coarse = spsolve(_solver_matrix(model, ev, c0, s, {}).tocsc(), rhs)
+        assert np.linalg.norm(coarse - xd) > 1e-6 * np.linalg.norm(xd)
+    finally:
+        fe.retained, sysm.nodes = intact
