@@ -90,6 +90,10 @@ class StepControl:
         Penalty contacts that open and close within one step (a light slider rattling between
         airborne plates) make or destroy energy; this catches them. Default: no limit
         (docs/theory/finite-elements.md §Time steps).
+    hold : int
+        Accepted steps after a step Newton could not do during which the step does not grow;
+        every further such step doubles the hold (up to 64 × ``hold``), and a step that grows
+        and converges resets it. 0 (default): the step doubles back at once.
     """
 
     max_step: float = 5e-3
@@ -98,6 +102,7 @@ class StepControl:
     rtol: float = 1e-6
     max_iter: int = 12
     energy_tol: float = math.inf
+    hold: int = 0
 
 
 @dataclass
@@ -349,6 +354,8 @@ class Integrator:
         t = t_start
         h = ctl.max_step
         rim_active = False
+        held, backoff = 0, ctl.hold  # steps left without growth, the next hold's length
+        grew = False  # the step attempted is longer than the last accepted one
         while not stopped and t < t_end - 1e-12:
             h = min(h, t_end - t)
             out = self.step(t, h, d, v, acc, state, f_int, f_ext)
@@ -357,11 +364,14 @@ class Integrator:
                 if now_active != rim_active:
                     out = None  # a rim contact opens or closes: redo at the impact step
                     self.rejected += 1
-                    h = ctl.impact_step
+                    h, grew = ctl.impact_step, False
                     continue
             if out is None:
                 self.rejected += 1
                 self.solver.thaw()  # Newton failed: fresh frozen tangents (Eq. F35a)
+                if ctl.hold:  # hold the step that converges (§Time steps)
+                    held, backoff = backoff, min(2 * backoff, 64 * ctl.hold)
+                grew = False
                 h *= 0.5
                 if h < ctl.min_step:
                     failed = True
@@ -381,7 +391,7 @@ class Integrator:
                             - w_fric_new - self.released[1])
             if abs(residual_new - residual) > ctl.energy_tol and h > ctl.impact_step / 8:
                 self.rejected += 1
-                h *= 0.5
+                h, grew = 0.5 * h, False
                 continue
             w_ext, w_mat, w_fric, ekin, residual = (w_ext_new, w_mat_new, w_fric_new,
                                                     ekin_new, residual_new)
@@ -399,10 +409,15 @@ class Integrator:
                 stopped = True
                 break
             limit = ctl.impact_step if rim_active else ctl.max_step
+            if grew:
+                backoff = ctl.hold
             if out.iterations > ctl.max_iter // 2:  # hard step: be careful with the next
-                h = max(0.5 * h, ctl.min_step)
+                h, grew = max(0.5 * h, ctl.min_step), False
+            elif held:
+                held -= 1
+                h, grew = min(h, limit), False
             else:
-                h = min(2.0 * h, limit)
+                h, grew = min(2.0 * h, limit), 2.0 * h <= limit
         return RunResult(
             time=np.asarray(times), energy=energy.arrays(), stopped=stopped,
             failed_numerically=failed, message=message, d=d, v=v, state=state,

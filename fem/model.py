@@ -21,6 +21,11 @@ from .observer import PLASTIC_STRAIN_LIMIT, Observer, rim_of_nodes
 
 __all__ = ["LIMIT_STATES", "PLASTIC_STRAIN_LIMIT", "RIMS", "FEEnergy", "FEMResult", "simulate"]
 
+#: With torn elements letting go, the accepted steps after a step Newton could not do during
+#: which the step does not grow (:class:`fem.dynamics.StepControl`'s ``hold``; measured:
+#: docs/theory/finite-elements.md, "Time steps").
+TEARING_STEP_HOLD = 8
+
 
 @dataclass(frozen=True)
 class FEEnergy(Mapping):
@@ -350,6 +355,7 @@ def simulate(
         control=StepControl(
             max_step=max_step, impact_step=impact_step,
             energy_tol=energy_tolerance * bearing.weight / depth * bearing.rim_height,
+            hold=TEARING_STEP_HOLD if tearing is not None and tearing.steps else 0,
         ),
         rim_mask=rim_mask, fracture=tearing,
     )

@@ -129,3 +129,39 @@ def test_bad_input():
         fem.simulate(DFPBearing(), np.zeros(10), -0.01)
     with pytest.raises(ValueError):
         fem.simulate(DFPBearing(), np.zeros(10), 0.01, max_step=1e-3, impact_step=1e-2)
+
+
+def _held_steps(mesh_cache, hold, fails_at):
+    """Accepted steps between the failed attempts of a run of the frictionless bearing at
+    rest, whose Newton is made to fail on every step longer than 5 ms while
+    ``fails_at(t)``."""
+    from fem.dfp import build_system
+    from fem.dynamics import Integrator, StepControl
+
+    bearing = dataclasses.replace(DFPBearing(), friction=0.0, rim_friction=0.0)
+    model = build_system(bearing, mesh_options=COARSE_MESH, cache_dir=mesh_cache)
+    integ = Integrator(model, lambda t: 0.0, control=StepControl(max_step=0.01, hold=hold))
+    real, runs = integ.step, [0]
+
+    def step(t, h, *args):
+        if h > 0.0051 and fails_at(t):
+            runs.append(0)
+            return None
+        runs[-1] += 1
+        return real(t, h, *args)
+
+    integ.step = step
+    integ.run(0.6)
+    return runs
+
+
+def test_the_step_is_held_after_newton_fails(mesh_cache):
+    """docs/theory/finite-elements.md, "Time steps". Without a hold the step doubles back at
+    once, so Newton fails on every other attempt; with ``hold`` = 4 the step stays for 4,
+    then 8, 16 … accepted steps before it grows again, and a step that grows and converges
+    resets the hold (here once the failures stop at 0.3 s and start again at 0.45 s)."""
+    between = _held_steps(mesh_cache, 0, lambda t: True)
+    assert len(between) > 50 and set(between[1:-1]) == {1}
+    between = _held_steps(mesh_cache, 4, lambda t: t < 0.3 or t > 0.45)
+    assert between[:4] == [0, 5, 9, 17]  # the held steps, then the one that tries to grow
+    assert between[-3:-1] == [5, 9]  # after the growth that converged: 4 again
