@@ -98,3 +98,29 @@ def test_fem_statistics_count_the_discriminating_cases_apart():
     d = stats["discriminating"]
     assert d["yielding_within_20"] == 0.5 and d["first_touch_within_20"] == 0.0
     assert d["median_fem_over_yielding"] == pytest.approx((0.40 / 0.38 + 0.30 / 0.20) / 2)
+
+
+def test_containment_with_tearing_checks_the_issue_targets():
+    """validation/studies/containment_tearing.py: containment rows only; the median FE/rigid
+    within ±15 %, at least 80 % within ±35 %, and more cases within ±20 % of the rigid model
+    than of the first touch. Five cases: FE/rigid 1.0, 1.1, 0.9, 1.3, 2.0 (median 1.1; four
+    of five within 35 %, three within 20 %); FE/first touch 1.0, 1.5, 1.5, 1.5, 1.5."""
+    from validation.studies.containment_tearing import statistics_rows as tearing
+
+    def case(fe, rigid, touch, state="containment"):
+        return {"rim_thickness_mm": 40.0, "limit_state": state, "fem_sa_g": str(fe),
+                "yielding_sa_g": str(rigid), "first_touch_sa_g": touch,
+                "fem_over_first_touch": fe / touch, "uncertain": "False",
+                "numerical_runs": "0"}
+
+    rows = [case(0.2, 0.2, 0.2), case(0.33, 0.3, 0.22), case(0.27, 0.3, 0.18),
+            case(0.39, 0.3, 0.26), case(0.6, 0.3, 0.4), case(0.9, 0.1, 0.1, "hinge")]
+    (s,) = tearing(rows)
+    assert (s["cases"], s["compared"]) == (5, 5)
+    assert s["median_fem_over_rigid"] == pytest.approx(1.1)
+    assert (s["rigid_within_20"], s["rigid_within_35"]) == (3, 4)
+    assert (s["first_touch_within_20"], s["first_touch_within_35"]) == (1, 1)
+    assert s["target_median"] and s["target_within_35"] and s["target_beats_first_touch"]
+    rows[1] = case(0.33, 0.2, 0.22)  # FE/rigid 1.65: three of five within 35 %
+    (s,) = tearing(rows)
+    assert not s["target_within_35"]
