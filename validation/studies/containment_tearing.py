@@ -39,8 +39,8 @@ def _within(ratios, band) -> int:
 
 
 def statistics_rows(rows: list[dict]) -> list[dict]:
-    """Per thickness, containment only: the cases compared, the medians, the counts within the bands and the
-    targets (module docstring)."""
+    """Per thickness, containment only: the cases compared, the medians, the counts within
+    the bands and the targets (module docstring)."""
     out = []
     for t in sorted({r["rim_thickness_mm"] for r in rows}):
         group = [r for r in rows
