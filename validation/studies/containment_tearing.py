@@ -3,7 +3,10 @@ SA with the law through tearing against the FE model's with tearing, on every ca
 containment validations with fracture, with the first touch beside each.
 
 Reads ``fem_comparison.csv`` of ``docs/fem-validation-fracture`` (40 mm rims) and
-``docs/fem-validation-fracture-rims80`` (80 mm), those that exist, and the first touch of
+``docs/fem-validation-fracture-rims80`` (80 mm), those that exist, or, of a run under way,
+the finished searches of its ``status.csv`` (``python -m
+validation.studies.fem_validation_status --limit-state containment --fem-fracture median
+--fem-edge-radius 20 --out FOLDER``; marked ``run_finished`` False), and the first touch of
 every record from the design space (``docs/rim-design/cases.csv``: the lowest 0.01 g rung at
 which the rigid-rim model touches a rim). Writes to ``docs/results/``:
 
@@ -70,10 +73,18 @@ def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--out", type=Path, default=RESULTS)
     args = p.parse_args(argv)
-    folders = {t: d for t, d in FOLDERS.items() if (d / "fem_comparison.csv").exists()}
-    if not folders:
-        raise SystemExit("no containment validation with tearing has a fem_comparison.csv yet")
-    rows = comparison(DESIGN_SPACE, folders)
+    rows = []
+    for t, folder in FOLDERS.items():
+        if (folder / "fem_comparison.csv").exists():
+            rows += [{**r, "run_finished": "True"}
+                     for r in comparison(DESIGN_SPACE, {t: folder})]
+        elif (folder / "status.csv").exists():  # a run under way: its finished searches
+            rows += [{**r, "run_finished": "False"}
+                     for r in comparison(DESIGN_SPACE, {t: folder}, "status.csv")
+                     if r["finished"] == "True"]
+    if not rows:
+        raise SystemExit("no containment validation with tearing has a fem_comparison.csv "
+                         "or a status.csv yet")
     write_csv(rows, args.out / "containment_tearing.csv")
     stats = statistics_rows(rows)
     write_csv(stats, args.out / "containment_tearing_statistics.csv")

@@ -5,7 +5,8 @@ ones with the runs they have made; the rigid critical SA with rigid and with yie
 beside them.
 
 Run: ``python -m validation.studies.fem_validation_status [--out docs/fem-validation]
-[--limit-state hinge] [--rim-thickness MM]`` with the settings of the run (those of
+[--limit-state hinge] [--rim-thickness MM] [--fem-fracture SET --fem-edge-radius MM]`` with
+the settings of the run (those of
 ``dfp validate`` without ``--quick``: the FEMA P695 near-field pulse set, 60 and 10 MPa,
 coarse mesh, 0.005 s steps, finite deformation); writes ``OUT/status.csv`` (every search
 started), ``OUT/status_statistics.csv`` and ``OUT/status_fig4.png`` (the report's Fig. 4 and
@@ -18,6 +19,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from fem.fracture import FRACTURE_SETS
 from rigid import G, fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore
@@ -34,12 +36,15 @@ from validation.run import Settings, critical_from_json, rigid_tasks
 from . import FEM_VALIDATION
 
 
-def run_settings(limit_states=("hinge",), rim_thickness_mm=None) -> Settings:
+def run_settings(limit_states=("hinge",), rim_thickness_mm=None, fracture=None,
+                 edge_radius_mm=0.0) -> Settings:
     """The settings of ``dfp validate`` without ``--quick`` (FE steps 0.005 s), with
-    ``--rim-thickness`` when given."""
+    ``--rim-thickness``, ``--fem-fracture`` (and so the rigid model's law through tearing) and
+    ``--fem-edge-radius`` when given."""
     bearing = () if rim_thickness_mm is None else (("rim_thickness", rim_thickness_mm / 1e3),)
-    return Settings(fem=FESettings(max_step=0.005, limit_states=tuple(limit_states)),
-                    rims=("rigid", "yielding"), bearing=bearing)
+    return Settings(fem=FESettings(max_step=0.005, limit_states=tuple(limit_states),
+                                   fracture=fracture, edge_radius=edge_radius_mm / 1e3),
+                    rims=("rigid", "yielding"), bearing=bearing, rim_fracture=fracture)
 
 
 def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
@@ -96,9 +101,13 @@ def main() -> None:
     p.add_argument("--out", type=Path, default=FEM_VALIDATION)
     p.add_argument("--limit-state", nargs="+", default=["hinge"])
     p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
+    p.add_argument("--fem-fracture", choices=FRACTURE_SETS, help="the run's --fem-fracture")
+    p.add_argument("--fem-edge-radius", type=float, default=0.0,
+                   help="the run's --fem-edge-radius [mm]")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
-    settings = run_settings(args.limit_state, args.rim_thickness)
+    settings = run_settings(args.limit_state, args.rim_thickness, args.fem_fracture,
+                            args.fem_edge_radius)
     rows = replay(args.out, settings, motions)
     write_csv(rows, args.out / "status.csv")
     done = [r for r in rows if r["finished"]]

@@ -44,14 +44,16 @@ def runs(out: Path = OUT) -> dict[float, Path]:
     return dict(sorted(found.items()))
 
 
-def comparison(out: Path = OUT, folders: dict[float, Path] | None = None) -> list[dict]:
+def comparison(out: Path = OUT, folders: dict[float, Path] | None = None,
+               table: str = "fem_comparison.csv") -> list[dict]:
     """Every FE search of every thickness, with the first touch (from ``out``'s design space)
-    beside it; ``folders``: thickness [mm] → validation folder (default :func:`runs`)."""
+    beside it; ``folders``: thickness [mm] → validation folder (default :func:`runs`), whose
+    ``table`` is read."""
     touch = {(float(r["rim_thickness_mm"]), float(r["pressure_mpa"]), r["record"]):
              number(r["first_touch_sa_g"]) for r in read_csv(out / "cases.csv")}
     rows = []
     for t, folder in (runs(out) if folders is None else folders).items():
-        for r in read_csv(folder / "fem_comparison.csv"):
+        for r in read_csv(folder / table):
             first = touch.get((t, float(r["pressure_mpa"]), r["record"]), math.nan)
             fe = number(r["fem_sa_g"])
             rows.append({"rim_thickness_mm": t, **r, "first_touch_sa_g": first,
