@@ -115,12 +115,12 @@ def test_containment_with_tearing_checks_the_issue_targets():
 
     rows = [case(0.2, 0.2, 0.2), case(0.33, 0.3, 0.22), case(0.27, 0.3, 0.18),
             case(0.39, 0.3, 0.26), case(0.6, 0.3, 0.4), case(0.9, 0.1, 0.1, "hinge")]
-    (s,) = tearing(rows)
-    assert (s["cases"], s["compared"]) == (5, 5)
-    assert s["median_fem_over_rigid"] == pytest.approx(1.1)
-    assert (s["rigid_within_20"], s["rigid_within_35"]) == (3, 4)
-    assert (s["first_touch_within_20"], s["first_touch_within_35"]) == (1, 1)
+    s = {s["cases"]: s for s in tearing(rows)}["all"]
+    assert (s["n"], s["of"]) == (5, 5)
+    assert s["median_fem_over_yielding"] == pytest.approx(1.1)
+    assert (s["yielding_within_20"], s["yielding_within_35"]) == (0.6, 0.8)
+    assert (s["first_touch_within_20"], s["first_touch_within_35"]) == (0.2, 0.2)
     assert s["target_median"] and s["target_within_35"] and s["target_beats_first_touch"]
     rows[1] = case(0.33, 0.2, 0.22)  # FE/rigid 1.65: three of five within 35 %
-    (s,) = tearing(rows)
+    s = {s["cases"]: s for s in tearing(rows)}["all"]
     assert not s["target_within_35"]
