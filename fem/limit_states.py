@@ -39,6 +39,13 @@ def root_nodes(mesh, bearing) -> dict:
                              bearing.dish_depth(bearing.rim_radius))
 
 
+def inner_root_nodes(mesh, bearing) -> dict:
+    """Mesh vertex where each rim's inner face meets the dish: the corner of a rim that is
+    gone (Eq. F68b)."""
+    return _nearest_vertices(mesh, bearing, bearing.rim_radius,
+                             bearing.dish_depth(bearing.rim_radius))
+
+
 def averaging_operator(points: np.ndarray, weights: np.ndarray, radius: float) -> sp.csr_matrix:
     """Row-normalised top-hat average over a disc of the given radius [m] (Eq. F52): row i holds
     w_j / Σ w_j for the points j within ``radius`` of point i (reference positions (2, n) [m],
@@ -93,6 +100,7 @@ class LimitStates:
         self.roots = [model.rim_roots[k] for k in RIMS]
         self.corners = corner_nodes(mesh, bearing)
         self.root_nodes = root_nodes(mesh, bearing)
+        self.inner_roots = inner_root_nodes(mesh, bearing)
         self.nd = self.system.fe.basis.nodal_dofs
         self.vertices = self.system.shape.vertices
         self.mesh = mesh
@@ -151,8 +159,9 @@ class LimitStates:
         vz = pose[1] + s * v[0] + c * v[1]
         p = self.mesh.p
         nd = self.nd
+        corners = self.corners if self.fracture is None else self._standing_corners()
         for name in RIMS:
-            node = self.corners[name]
+            node = corners[name]
             cx = p[0, node] + d[nd[0, node]]
             cz = p[1, node] + d[nd[1, node]]
             side = math.copysign(1.0, cx)
@@ -164,20 +173,42 @@ class LimitStates:
                     # past where the corner would be had the rim not bent (its reference
                     # position moved with the rim's root): it climbed over a rim that held
                     z0 = p[1, node] + d[nd[1, self.root_nodes[name]]]
-                    climbed = (vz[j] < z0) if top else (vz[j] > z0)
+                    torn = node != self.corners[name]
+                    climbed = not torn and ((vz[j] < z0) if top else (vz[j] > z0))
                     which = "top" if top else "bottom"
-                    how = ("climbed over it" if climbed else "passed through it, bent out of "
-                           "the way")
+                    how = ("climbed over it" if climbed else "through its tear" if torn
+                           else "passed through it, bent out of the way")
                     return ("uplift" if climbed else "yielding",
                             f"a {which} slider vertex got past the {name} rim ({how})")
         r_in = self.bearing.rim_radius
-        x_top = float(np.mean(d[nd[0, self.corners["top -x"]]]))
+        x_top = float(np.mean(d[nd[0, corners["top -x"]]]))
         if abs(pose[0]) > r_in or abs(pose[0] - x_top) > r_in:
             mode = "yielding" if self.hinge_times else "uplift"
             return mode, "the slider's centroid passed a rim"
         if abs(pose[2]) > 0.25 * math.pi:
             return "uplift", "the slider overturned (|θ| > 45°)"
         return None, None
+
+    def _standing_corners(self) -> dict:
+        """Each rim's corner node, or, once no element that keeps some stiffness holds it, the
+        rim's node nearest to it (reference configuration) that one still holds: the corner
+        of what is left of the rim (where its inner face met the dish when nothing is; Eq.
+        F68b)."""
+        retained = self.fracture.retained
+        if (retained == 1.0).all():
+            return self.corners
+        t = self.mesh.t
+        corners = {}
+        for name, elems in zip(RIMS, self.rim_points, strict=True):
+            node = self.corners[name]
+            held = np.unique(t[:, elems[retained[elems] > 0.0]])
+            if node in held or not held.size:
+                corners[name] = node if node in held else self.inner_roots[name]
+                continue
+            p = self.mesh.p
+            corners[name] = int(held[np.argmin(np.hypot(p[0, held] - p[0, node],
+                                                         p[1, held] - p[1, node]))])
+        return corners
 
     def verdict(self, limit_state: str):
         """(failed, time [s], mode, detail) under ``limit_state``: the first of that limit

@@ -151,6 +151,49 @@ def test_the_contact_surface_leaves_with_its_elements(model):
     assert (sysm.nodes.length == full).all()
 
 
+def test_a_piece_cut_off_a_rim_lets_go_and_its_corner_moves_to_what_is_left(model, heavy):
+    """When the elements of the bottom +x rim's root row have gone, the rest of that rim is
+    joined to no plate: it lets go over the same N steps as a torn element (Eq. F68b), and
+    nothing else does. The containment check then measures that rim where its inner face met
+    the dish: a slider vertex just outside the inner face, between the root and the old
+    corner height, has got past it through its tear; with the rim whole it has not."""
+    from fem.limit_states import LimitStates
+
+    fe, mesh = model.system.fe, model.mesh
+    frac = RimFracture(StressModifiedStrain(heavy.rupture_strain, 1.5), fe, mesh,
+                       heavy.rim_thickness, steps=4)
+    rim = frac.elements[RIMS.index("bottom +x")]
+    z_root = heavy.dish_depth(heavy.rim_radius)
+    root_row = rim[np.isclose(mesh.p[1, mesh.t[:, rim]].min(axis=0), z_root, atol=1e-6)]
+    rest = np.setdiff1d(rim, root_row)
+    assert root_row.size and rest.size
+    p, stress = np.zeros(fe.point_shape), _ramp(model, 0.0, 1)[0][1]
+    frac.retained[root_row] = 0.5  # letting go: 1/4 of it left after the next step
+    frac.update(0.0, p, stress)
+    assert not frac.loose  # the root row still holds some stiffness
+    frac.update(1.0, p, stress)
+    assert sorted(frac.loose) == rest.tolist()
+    assert set(frac.loose.values()) == {(1.0, "bottom +x")}
+    others = np.setdiff1d(np.arange(frac.retained.size), rim)
+    assert (frac.retained[rest] == 0.75).all() and (frac.retained[others] == 1.0).all()
+    for t in (1.1, 1.2, 1.3):
+        frac.update(t, p, stress)
+    assert (frac.retained[rim] == 0.0).all() and (frac.retained[others] == 1.0).all()
+
+    # the +x bottom vertex 5 mm outside the inner face, 10 mm above the root
+    vertex = model.system.shape.vertices[:, 1]
+    pose = (heavy.rim_radius + 0.005 - vertex[0], z_root + 0.01 - vertex[1], 0.0)
+    d = np.zeros(model.system.size)
+    for fracture in (None, frac):
+        watch = LimitStates(heavy, model, fracture=fracture)
+        watch.update(2.0, d, pose, np.zeros(fe.point_shape))
+        if fracture is None:
+            assert watch.times["containment"] is None
+        else:
+            assert watch.times["containment"] == 2.0 and watch.mode == "yielding"
+            assert watch.detail.endswith("bottom +x rim (through its tear)")
+
+
 def test_bad_fracture_options_are_refused(heavy):
     a = np.zeros(10)
     with pytest.raises(ValueError, match="fracture must be one of"):

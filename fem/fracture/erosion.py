@@ -9,6 +9,8 @@ the elements it tears (docs/theory/finite-elements.md, "Rim fracture", Eqs. F66�
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from .criterion import StressModifiedStrain
 from .gauge import GaugeDamage
@@ -22,7 +24,9 @@ class RimFracture:
     Each rim's damage is accumulated over a gauge of the rim thickness (Eq. F66) at its
     quadrature points; an element tears when the largest damage of its points reaches 1
     (Eq. F67) and then keeps 1 − k/N of its stiffness and stress k accepted steps later, N =
-    ``steps``, until none is left (Eq. F68). Torn elements add no strain to the gauges.
+    ``steps``, until none is left (Eq. F68). Torn elements add no strain to the gauges. Rim
+    elements that the gone ones leave joined to no plate (across element edges) are a loose
+    fragment and let go in the same way (Eq. F68b).
 
     Parameters
     ----------
@@ -46,6 +50,8 @@ class RimFracture:
         Fraction of its stiffness and stress each element keeps.
     torn : dict
         Element → (time [s], rim) at which it tore, in the order they tore.
+    loose : dict
+        Element → (time [s], rim) at which it was cut off in a loose fragment (Eq. F68b).
     rim_damage : list of float
         Largest element damage of each watched rim (in ``rims``' order) after the last
         update.
@@ -71,6 +77,11 @@ class RimFracture:
             self.gauges.append(GaugeDamage(criterion, operator))
         self.retained = np.ones(fe.dx.shape[0])
         self.torn: dict = {}
+        self.loose: dict = {}
+        self._edges = _edge_adjacency(mesh)
+        self._anchored = np.ones(self.retained.size, dtype=bool)  # plates: never torn
+        for elems in self.elements:
+            self._anchored[elems] = False
         self.rim_damage = [0.0] * len(self.rims)
         self.rim_triaxiality = [0.0] * len(self.rims)
 
@@ -100,4 +111,28 @@ class RimFracture:
                 self.torn.setdefault(int(e), (t, self.rims[k]))
                 if self.steps:
                     self.retained[e] = 1.0 - 1.0 / self.steps
+        if self.steps and ((self.retained == 0.0) & (before > 0.0)).any():
+            self._let_loose_go(t)
         return bool((self.retained != before).any())
+
+    def _let_loose_go(self, t: float) -> None:
+        """Start letting go the whole elements that no longer reach a plate through elements
+        that keep some stiffness (Eq. F68b)."""
+        alive = np.flatnonzero(self.retained > 0.0)
+        n, label = connected_components(self._edges[alive][:, alive], directed=False)
+        held = np.zeros(n, dtype=bool)
+        held[label[self._anchored[alive]]] = True
+        cut = alive[~held[label]]
+        for k, elems in enumerate(self.elements):
+            for e in np.intersect1d(cut, elems):
+                if self.retained[e] == 1.0:
+                    self.loose[int(e)] = (t, self.rims[k])
+                    self.retained[e] = 1.0 - 1.0 / self.steps
+
+
+def _edge_adjacency(mesh) -> sp.csr_matrix:
+    """Elements × elements, nonzero where two elements share an edge."""
+    pair = mesh.f2t[:, (mesh.f2t >= 0).all(axis=0)]
+    n = mesh.t.shape[1]
+    a = sp.coo_matrix((np.ones(pair.shape[1]), (pair[0], pair[1])), shape=(n, n))
+    return (a + a.T).tocsr()
