@@ -124,3 +124,48 @@ def test_containment_with_tearing_checks_the_issue_targets():
     rows[1] = case(0.33, 0.2, 0.22)  # FE/rigid 1.65: three of five within 35 %
     s = {s["cases"]: s for s in tearing(rows)}["all"]
     assert not s["target_within_35"]
+
+
+def test_fracture_sensitivity_sets_each_set_beside_the_median(tmp_path):
+    """validation/studies/fracture_sensitivity.py: per record each set's SA and its ratio to
+    the median set's, read from a finished run's fem_comparison.csv or from the finished rows
+    of a run's status.csv (other limit states and pressures left out); then the median,
+    smallest and largest ratio. Two records, steep FE/median 0.8 and 1.0, mild 1.5 and 1.2."""
+    import csv
+
+    from validation.studies.fracture_sensitivity import table
+
+    columns = ["finished", "record", "pressure_mpa", "limit_state", "fem_sa_g",
+               "yielding_sa_g"]
+
+    def folder(name, file, rows):
+        path = tmp_path / name
+        path.mkdir()
+        with open(path / file, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(columns)
+            w.writerows(rows)
+        return path
+
+    folders = {
+        "steep": folder("steep", "fem_comparison.csv", [
+            ["True", "a", "60", "containment", "0.16", "0.2"],
+            ["True", "b", "60", "containment", "0.3", "0.3"],
+            ["True", "b", "10", "containment", "0.9", "0.9"]]),
+        "median": folder("median", "status.csv", [
+            ["True", "a", "60", "containment", "0.2", "0.2"],
+            ["True", "b", "60", "containment", "0.3", "0.3"],
+            ["False", "b", "60", "hinge", "0.1", "0.1"]]),
+        "mild": folder("mild", "fem_comparison.csv", [
+            ["True", "a", "60", "containment", "0.3", "0.25"],
+            ["True", "b", "60", "containment", "0.36", "0.3"]]),
+    }
+    rows = table(folders)
+    assert [r["record"] for r in rows[:2]] == ["a", "b"]
+    assert rows[0]["fem_steep_over_median"] == pytest.approx(0.8)
+    assert rows[1]["fem_mild_over_median"] == pytest.approx(1.2)
+    assert rows[0]["rigid_mild_over_median"] == pytest.approx(1.25)
+    median, low, high = rows[2:]
+    assert median["fem_mild_over_median"] == pytest.approx(1.35)
+    assert (low["fem_steep_over_median"], high["fem_steep_over_median"]) == pytest.approx(
+        (0.8, 1.0))

@@ -1,0 +1,105 @@
+"""The containment SA's sensitivity to the fracture constants (issue #31, item 4): the FE and
+the rigid model's critical SA at the loss of containment with the steep, median and mild
+sets of the ductile criterion (docs/theory/finite-elements.md, "Rim fracture"), on the first
+8 records of the set at 60 MPa.
+
+The steep and mild runs are containment validations of their own, made (or resumed) by this
+study unless ``--tables-only``::
+
+    dfp validate --records 8 --pressure 60 --limit-state containment --fem-fracture SET \\
+        --fem-edge-radius 20 --out docs/fem-validation-fracture-sensitivity/SET
+
+(``--rim-fracture`` follows ``--fem-fracture``: the rigid model's law through tearing is
+pushed with the same set). The median runs are those of the full validation
+(``docs/fem-validation-fracture``, its ``fem_comparison.csv``, or while it runs the finished
+searches of its ``status.csv``). Writes ``docs/results/containment_fracture_sensitivity.csv``:
+per record, each set's FE and rigid SA [g] and their ratios to the median's, and three last
+rows with the median, smallest and largest of each ratio over the records.
+
+Run: ``python -m validation.studies.fracture_sensitivity [--workers 2] [--tables-only]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+from pathlib import Path
+
+from rigid.collapse.comparison import write_csv
+
+from . import DOCS, RESULTS, read_csv
+
+SETS = ("steep", "median", "mild")
+RECORDS = 8  # the first components of the set, in its order
+PRESSURE = 60  # [MPa]
+OUT = DOCS / "fem-validation-fracture-sensitivity"
+MEDIAN = DOCS / "fem-validation-fracture"
+
+
+def command(fracture: str, out: Path, workers: int) -> list[str]:
+    """``dfp validate`` arguments of one set's runs."""
+    return ["validate", "--records", str(RECORDS), "--pressure", str(PRESSURE),
+            "--limit-state", "containment", "--fem-fracture", fracture,
+            "--fem-edge-radius", "20", "--workers", str(workers), "--no-progress",
+            "--out", str(out)]
+
+
+def _finished(folder: Path) -> dict:
+    """Record → its finished containment row at the study's pressure, from the folder's
+    ``fem_comparison.csv`` or, of a run under way, its ``status.csv``."""
+    table = folder / "fem_comparison.csv"
+    rows = (read_csv(table) if table.exists() else
+            [r for r in read_csv(folder / "status.csv") if r["finished"] == "True"])
+    return {r["record"]: r for r in rows
+            if r["limit_state"] == "containment" and float(r["pressure_mpa"]) == PRESSURE}
+
+
+def _sa(row: dict | None, column: str) -> float | None:
+    return float(row[column]) if row is not None and row[column] else None
+
+
+def table(folders: dict) -> list[dict]:
+    """Rows of the study's CSV from the three sets' folders (module docstring)."""
+    found = {s: _finished(f) for s, f in folders.items()}
+    records = list(found["steep"])
+    rows, ratios = [], {}
+    for record in records:
+        row = {"record": record, "pressure_mpa": PRESSURE}
+        for model, column in (("fem", "fem_sa_g"), ("rigid", "yielding_sa_g")):
+            median = _sa(found["median"].get(record), column)
+            for s in SETS:
+                sa = _sa(found[s].get(record), column)
+                row[f"{model}_{s}_sa_g"] = sa
+                if s != "median":
+                    ratio = sa / median if sa and median else None
+                    row[f"{model}_{s}_over_median"] = ratio
+                    if ratio is not None:
+                        ratios.setdefault((model, s), []).append(ratio)
+        rows.append(row)
+    for name, stat in (("median", statistics.median), ("min", min), ("max", max)):
+        rows.append({"record": f"{name} over the records", **{
+            f"{model}_{s}_over_median": stat(r) for (model, s), r in ratios.items()}})
+    return rows
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--tables-only", action="store_true",
+                   help="only write the table from the folders as they are")
+    p.add_argument("--out", type=Path, default=RESULTS)
+    args = p.parse_args(argv)
+    folders = {"steep": OUT / "steep", "median": MEDIAN, "mild": OUT / "mild"}
+    if not args.tables_only:
+        from validation import cli
+
+        for s in ("steep", "mild"):
+            cli.main(command(s, folders[s], args.workers))
+    rows = table(folders)
+    write_csv(rows, args.out / "containment_fracture_sensitivity.csv")
+    for r in rows[-3:]:
+        print(r)
+
+
+if __name__ == "__main__":
+    main()
