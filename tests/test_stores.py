@@ -31,6 +31,8 @@ REPLAYABLE = {
                            "--stop", "3"],
     "rim-design/fem-240": ["--rim-thickness", "240", "--limit-state", "rupture",
                            "--stop", "3"],
+    "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
+                                "--fem-edge-radius", "20"],
 }
 
 
