@@ -35,3 +35,14 @@ def number(text) -> float:
         return float(text)
     except (TypeError, ValueError):
         return math.nan
+
+
+def validation_table(folder: Path) -> tuple[str, bool] | None:
+    """The table of a ``dfp validate`` folder to read its searches from: ``("fem_comparison.csv",
+    True)`` once the run has finished, ``("status.csv", False)`` while it is under way (written
+    by ``validation.studies.fem_validation_status``; keep its rows whose ``finished`` is
+    "True"), None with neither."""
+    for name, finished in (("fem_comparison.csv", True), ("status.csv", False)):
+        if (folder / name).exists():
+            return name, finished
+    return None

@@ -29,7 +29,7 @@ from pathlib import Path
 
 from rigid.collapse.comparison import write_csv
 
-from . import DOCS, RESULTS
+from . import DOCS, RESULTS, validation_table
 from .rim_design import OUT as DESIGN_SPACE
 from .rim_design_fem import comparison
 from .rim_design_fem import statistics_rows as fem_statistics
@@ -61,13 +61,12 @@ def main(argv=None) -> None:
     args = p.parse_args(argv)
     rows = []
     for t, folder in FOLDERS.items():
-        if (folder / "fem_comparison.csv").exists():
-            rows += [{**r, "run_finished": "True"}
-                     for r in comparison(DESIGN_SPACE, {t: folder})]
-        elif (folder / "status.csv").exists():  # a run under way: its finished searches
-            rows += [{**r, "run_finished": "False"}
-                     for r in comparison(DESIGN_SPACE, {t: folder}, "status.csv")
-                     if r["finished"] == "True"]
+        table = validation_table(folder)
+        if table is not None:
+            name, finished = table
+            rows += [{**r, "run_finished": str(finished)}
+                     for r in comparison(DESIGN_SPACE, {t: folder}, name)
+                     if finished or r["finished"] == "True"]
     if not rows:
         raise SystemExit("no containment validation with tearing has a fem_comparison.csv "
                          "or a status.csv yet")
@@ -81,6 +80,7 @@ def main(argv=None) -> None:
               f"{s['yielding_within_20']:.0%}, first touch {s['first_touch_within_20']:.0%}; "
               f"within 35 %: rigid {s['yielding_within_35']:.0%}, first touch "
               f"{s['first_touch_within_35']:.0%}")
+
 
 if __name__ == "__main__":
     main()

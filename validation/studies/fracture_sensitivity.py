@@ -27,7 +27,7 @@ from pathlib import Path
 
 from rigid.collapse.comparison import write_csv
 
-from . import DOCS, RESULTS, read_csv
+from . import DOCS, RESULTS, read_csv, validation_table
 
 SETS = ("steep", "median", "mild")
 RECORDS = 8  # the first components of the set, in its order
@@ -47,11 +47,10 @@ def command(fracture: str, out: Path, workers: int) -> list[str]:
 def _finished(folder: Path) -> dict:
     """Record → its finished containment row at the study's pressure, from the folder's
     ``fem_comparison.csv`` or, of a run under way, its ``status.csv``."""
-    table = folder / "fem_comparison.csv"
-    rows = (read_csv(table) if table.exists() else
-            [r for r in read_csv(folder / "status.csv") if r["finished"] == "True"])
-    return {r["record"]: r for r in rows
-            if r["limit_state"] == "containment" and float(r["pressure_mpa"]) == PRESSURE}
+    name, finished = validation_table(folder)
+    return {r["record"]: r for r in read_csv(folder / name)
+            if (finished or r["finished"] == "True") and r["limit_state"] == "containment"
+            and float(r["pressure_mpa"]) == PRESSURE}
 
 
 def _sa(row: dict | None, column: str) -> float | None:
