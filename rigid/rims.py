@@ -94,8 +94,9 @@ class RimLaw:
     tear_set : float [m]
         A law through tearing: u_p at the push's first torn element; inf otherwise.
     off_set : float [m]
-        A law through tearing: u_p at which the torn rim is off, its push force below 2 % of
-        its peak (Eq. R64); inf for a rim that does not tear off within the push.
+        A law through tearing: u_p at which the rim is off, its push force below 2 % of its
+        peak (Eq. R64) or, after a push that stopped short, the rim thickness (Eq. R64b);
+        inf otherwise.
     """
 
     stiffness: float
@@ -181,7 +182,9 @@ def rim_law_through_tearing(bearing: DFPBearing, stiffness: float, fine, torn) -
     The backbone is made non-decreasing up to the push's first torn element and follows the
     push's falling force past it; each row carries the height of the rim's inner top corner
     above its root there; the first tear is the rupture (as Eq. F67 makes it in the FE
-    model), and the last row is where the rim is off if the push ended so."""
+    model), and the last row is where the rim is off: the push's own if it ended so (Eq.
+    R64), else a row added at u_p = t_r to a push that stopped short, of zero force if the
+    rim had torn and of the last force if not (Eq. R64b)."""
     root = bearing.dish_depth(bearing.rim_radius)
     keep = torn.displacement > fine.displacement[-1] * (1 + 1e-9)
     d = np.concatenate([fine.displacement, torn.displacement[keep]])
@@ -199,6 +202,15 @@ def rim_law_through_tearing(bearing: DFPBearing, stiffness: float, fine, torn) -
     forces[whole] = np.maximum.accumulate(forces[whole])  # a prefix: flat past the peak
     keep = np.concatenate([[True], np.diff(sets) > 0])
     sets, forces, heights = sets[keep], forces[keep], heights[keep]
+    off_set = float(sets[-1])
+    if not torn.separated and sets[-1] < bearing.rim_thickness:
+        # Eq. R64b: a push that Newton stopped short goes on to where the rim's inner face
+        # reaches the plate's outer edge (u_p = t_r), where the rim is off its plate: a torn
+        # rim's force falls linearly to zero there, an untorn one keeps its last force
+        off_set = bearing.rim_thickness
+        sets = np.append(sets, off_set)
+        forces = np.append(forces, 0.0 if tear_d is not None else forces[-1])
+        heights = np.append(heights, heights[-1])
     law = rim_law_from_push(bearing, stiffness, fine, torn)
     if tear_d is None:
         tear_set = rupture_d = rupture_set = math.inf
@@ -208,7 +220,7 @@ def rim_law_through_tearing(bearing: DFPBearing, stiffness: float, fine, torn) -
     return dataclasses.replace(
         law, plastic_set=sets, force=forces, corner_height=heights,
         rupture_displacement=rupture_d, rupture_set=float(rupture_set),
-        tear_set=float(tear_set), off_set=float(sets[-1]) if torn.separated else math.inf,
+        tear_set=float(tear_set), off_set=off_set,
         push_displacement=d, push_force=f)
 
 

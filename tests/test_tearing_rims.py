@@ -79,7 +79,27 @@ def test_the_law_follows_the_push_through_the_tear():
     assert law.tear_set == law.rupture_set == pytest.approx(
         0.01 - torn.fracture_force / K_EL, rel=1e-12)
     assert law.off_set == law.plastic_set[-1]
-    assert _law(separated=False)[0].off_set == math.inf
+
+
+def test_a_push_stopped_short_goes_on_to_the_plate_edge():
+    """A push that Newton stopped short of the rim's coming off (Eq. R64b): the law keeps the
+    push's rows and adds one at u_p = t_r, where the rim is off, of zero force if the rim
+    had torn and of the last force if not, with the last corner height. Exact: the added
+    row is copied, not computed."""
+    law, _ = _law()
+    short, torn = _law(separated=False)
+    n = law.plastic_set.size
+    np.testing.assert_array_equal(short.plastic_set[:n], law.plastic_set)
+    np.testing.assert_array_equal(short.force[:n], law.force)
+    assert short.plastic_set[-1] == short.off_set == BEARING.rim_thickness
+    assert short.force[-1] == 0.0 and short.corner_height[-1] == short.corner_height[-2]
+    untorn = SimpleNamespace(**{**vars(torn), "fracture_displacement": None,
+                                "fracture_force": None})
+    fine_d = np.linspace(0.0, 1.5e-3, 61)
+    fine = _push(fine_d, np.interp(fine_d, torn.displacement, torn.force), np.full(61, 0.035))
+    held = rim_law_through_tearing(BEARING, K_EL, fine, untorn)
+    assert held.off_set == held.plastic_set[-1] == BEARING.rim_thickness
+    assert held.force[-1] == held.force[-2] and held.tear_set == math.inf
 
 
 def test_the_rim_element_softens_along_the_backbone():
