@@ -89,10 +89,11 @@ def tasks(thicknesses_mm, pressures_mpa, motions, rim_model: str, stop: float, c
 
 def cases(thicknesses_mm, pressures_mpa, out: Path, *, rim_model="plane-strain",
           workers=2, records=None, cache=None,
-          rim_height: float = DFPBearing.rim_height, replay: bool = False) -> list[dict]:
+          rim_height: float = DFPBearing.rim_height, replay: bool = False,
+          seen: dict | None = None) -> list[dict]:
     """Run (or read) every case; one row per thickness × pressure × record (``rim_height``
-    [m]); ``replay``: run nothing (:func:`rigid.tasks.run_tasks`), the rims' laws from the
-    store too."""
+    [m]); ``replay``: run nothing (:func:`rigid.tasks.run_tasks`, which fills ``seen`` with
+    the tasks found), the rims' laws from the store too."""
     from ..stored_rim_laws import keep_rim_laws
 
     motions = rigid.fema_p695("nearfield_pulse")[:records]
@@ -107,7 +108,7 @@ def cases(thicknesses_mm, pressures_mpa, out: Path, *, rim_model="plane-strain",
         results = run_tasks(todo, store, workers=workers, description="rim design cases",
                             unit="case", start_method=pool_context().get_start_method(),
                             log=None if replay else out / "store" / "progress.log",
-                            replay=replay)
+                            replay=replay, seen=seen)
     rigid_rims = {label[1:]: results[key] for key, label in what.items() if label[0] == "rigid"}
     return [{"rim_thickness_mm": t, "rim_height_mm": rim_height * 1e3, "pressure_mpa": p,
              "record": name, "rim_model": rim_model, **rigid_rims[p, name], **results[key]}
@@ -204,6 +205,32 @@ def _groups(rows):
     return groups
 
 
+def _rekey(args) -> None:
+    """``--rekey-from``: :func:`rigid.tasks.rekey.rekey` of the study's store, replaying
+    :func:`cases` with the arguments given, once the rims' laws are stored under today's
+    keys (pushed again where the store lacks them)."""
+    from rigid.tasks.rekey import rekey
+
+    from ..stored_rim_laws import keep_rim_laws
+
+    with ResultStore(args.out / "store" / "results.sqlite") as store:
+        for t in args.thicknesses:
+            keep_rim_laws(store, DFPBearing(rim_thickness=t * 1e-3,
+                                            rim_height=args.rim_height * 1e-3),
+                          [args.rim_model])
+
+    def replay(seen):
+        cases(args.thicknesses, args.pressures, args.out, rim_model=args.rim_model,
+              records=args.records, rim_height=args.rim_height * 1e-3, replay=True,
+              seen=seen)
+
+    with ResultStore(args.out / "store" / "results.sqlite") as store:
+        carried = rekey(store, replay, args.rekey_from)
+    print(f"--rekey-from {args.rekey_from}: carried over "
+          f"{', '.join(f'{k} {n}' for k, n in sorted(carried.items())) or 'nothing'}"
+          + (f"; not stored: {dict(carried.missing)}" if carried.missing else ""))
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--thicknesses", type=float, nargs="+", default=THICKNESSES_MM,
@@ -220,8 +247,14 @@ def main(argv=None) -> None:
     p.add_argument("--out", type=Path, default=OUT)
     p.add_argument("--replay", action="store_true",
                    help="run nothing: every case and rim law from the store")
+    p.add_argument("--rekey-from", metavar="REVISION",
+                   help="first carry the cases that REVISION's code stored over to today's "
+                   "keys, once the shortest two of each kind rerun identical "
+                   "(rigid.tasks.rekey.rekey)")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
+    if args.rekey_from:
+        _rekey(args)
     rows = cases(args.thicknesses, args.pressures, args.out, rim_model=args.rim_model,
                  workers=args.workers, records=args.records,
                  rim_height=args.rim_height * 1e-3, replay=args.replay)
