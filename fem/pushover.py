@@ -15,7 +15,7 @@ import numpy as np
 
 from rigid.bearing import DFPBearing
 
-__all__ = ["BottomPlate", "Pushover", "bottom_plate", "rim_pushover"]
+__all__ = ["BottomPlate", "PushRecord", "Pushover", "bottom_plate", "rim_pushover"]
 
 #: A push with erosion ends once its force is below this fraction of its peak after a tear.
 SEPARATED = 0.02
@@ -142,6 +142,100 @@ def bottom_plate(bearing: DFPBearing, *, mesh_options: dict | None = None,
     return BottomPlate(mesh, support, face, root, out_of_plane_depth(bearing))
 
 
+class PushRecord:
+    """The accepted increments of a push of the +x bottom rim, recorded as a
+    :class:`Pushover`: the force, the root row's yielded fraction (the hinge), the plastic
+    strains, the corner K, and with ``fracture`` the rim's damage, its first tear and its
+    torn elements let go over ``erosion_steps`` increments (Eqs. F66–F68). Shared by the face
+    push (:func:`rim_pushover`) and the slider's push (:func:`fem.slider_push.rim_slider_push`).
+
+    Call :meth:`held` before each increment (the dofs no element holds any more), then
+    :meth:`add` with each accepted state (True once the torn rim is off), and
+    :meth:`pushover` at the end.
+    """
+
+    def __init__(self, bearing: DFPBearing, fe, plate: BottomPlate, fracture=None,
+                 erosion_steps: int = 0):
+        from .limit_states import rim_gauge_average
+
+        self.fe, self.plate = fe, plate
+        self.rows = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0],
+                     "damage": [0.0], "triax": [0.0], "corner": [(0.0, 0.0)]}
+        self.hinge = self.tear = None
+        self.separated = False
+        self.tracker = None
+        if fracture is not None:
+            from .fracture import RimFracture, criterion_of
+
+            self.tracker = RimFracture(criterion_of(fracture, bearing.rupture_strain), fe,
+                                       plate.mesh, bearing.rim_thickness, steps=erosion_steps,
+                                       rims=("bottom +x",))
+            # the pushed rim's elements and its rupture gauge (Eq. F52)
+            self.rim, self.average = self.tracker.elements[0], self.tracker.gauges[0].operator
+        else:
+            self.rim, self.average = rim_gauge_average(fe, plate.mesh, "bottom +x",
+                                                       bearing.rim_thickness)
+        self.erosion = bool(erosion_steps)
+
+    def loose(self, fixed: np.ndarray) -> np.ndarray:
+        """The dofs, less ``fixed``, that no element holds any more (all of theirs let go);
+        empty before the first tear."""
+        fe = self.fe
+        if getattr(fe, "retained", None) is None:
+            return np.zeros(0, dtype=int)
+        held = fe.element_dofs[:, fe.retained > 0].ravel()
+        return np.setdiff1d(np.setdiff1d(fe.basis.nodal_dofs.ravel(), held), fixed)
+
+    def add(self, delta: float, force: float, u: np.ndarray, state, stress) -> bool:
+        """Record one accepted increment: the push δ [m], its force [N], the displacements
+        [m], the material state and the stresses [Pa]. True once the torn rim is off (the
+        force below :data:`SEPARATED` of its peak after a tear, with erosion)."""
+        out, p = self.rows, state.eq_plastic_strain
+        frac = float((p[self.plate.root_row] > 0).mean())
+        out["d"].append(delta)
+        out["f"].append(force)
+        out["frac"].append(frac)
+        out["p"].append(float(p.max()))
+        out["avg"].append(float((self.average @ p[self.rim].ravel()).max()))
+        out["corner"].append(u[self.fe.basis.nodal_dofs[:, self.plate.face[-1]]])
+        if self.hinge is None and frac >= 1.0:
+            self.hinge = (delta, force)
+        tracker = self.tracker
+        if tracker is None:
+            return False
+        if tracker.update(delta, p, stress):
+            self.fe.retained = tracker.retained.copy()
+        out["damage"].append(tracker.rim_damage[0])
+        out["triax"].append(tracker.rim_triaxiality[0])
+        if self.tear is None and tracker.first_tear is not None:
+            self.tear = (delta, force)
+        self.separated = (self.tear is not None and self.erosion
+                          and force < SEPARATED * max(out["f"]))
+        return self.separated
+
+    def pushover(self, kinematics: str, u: np.ndarray, state) -> Pushover:
+        """The push recorded, its last displacements [m] and material state."""
+        out, tracker = self.rows, self.tracker
+        hinge, tear = self.hinge, self.tear
+        return Pushover(
+            displacement=np.array(out["d"]), force=np.array(out["f"]),
+            yielded_fraction=np.array(out["frac"]),
+            hinge_displacement=None if hinge is None else hinge[0],
+            hinge_force=None if hinge is None else hinge[1],
+            max_plastic_strain=np.array(out["p"]),
+            averaged_plastic_strain=np.array(out["avg"]), kinematics=kinematics,
+            dofs=self.fe.ndofs, plate=self.plate, final_displacement=u,
+            final_plastic_strain=state.eq_plastic_strain,
+            damage=np.array(out["damage"]) if tracker is not None else np.zeros(0),
+            triaxiality=np.array(out["triax"]) if tracker is not None else np.zeros(0),
+            fracture_displacement=None if tear is None else tear[0],
+            fracture_force=None if tear is None else tear[1],
+            torn_elements=0 if tracker is None else len(tracker.torn),
+            corner=self.plate.mesh.p[:, self.plate.face[-1]] + np.array(out["corner"]),
+            separated=self.separated,
+        )
+
+
 def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
                  displacement: float | None = None, steps: int = 40,
                  mesh_options: dict | None = None, plasticity: bool = True,
@@ -189,7 +283,6 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     from .assembly import PlaneStrainQ1
     from .finite_element import FiniteStrainQ1
     from .hencky import FiniteState
-    from .limit_states import rim_gauge_average
     from .material import Material, MaterialState
     from .newton import solve_increment
 
@@ -212,28 +305,14 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
     n_support = 2 * plate.support.size
     state = (FiniteState if kinematics == "finite" else MaterialState).virgin(fe.point_shape)
     u, zero = np.zeros(fe.ndofs), np.zeros(fe.ndofs)
-    out = {"d": [0.0], "f": [0.0], "frac": [0.0], "p": [0.0], "avg": [0.0], "damage": [0.0],
-           "triax": [0.0], "corner": [(0.0, 0.0)]}
-    hinge = tear = None
-    separated = False
-    tracker = None
-    if fracture is not None:
-        from .fracture import RimFracture, criterion_of
-
-        tracker = RimFracture(criterion_of(fracture, bearing.rupture_strain), fe, plate.mesh,
-                              bearing.rim_thickness, steps=erosion_steps, rims=("bottom +x",))
-        rim, average = tracker.elements[0], tracker.gauges[0].operator  # its gauge, Eq. F52
-    else:
-        rim, average = rim_gauge_average(fe, plate.mesh, "bottom +x", bearing.rim_thickness)
+    record = PushRecord(bearing, fe, plate, fracture, erosion_steps)
     delta, h = 0.0, delta_end / steps
     while delta < delta_end * (1 - 1e-12):
         target = min(delta + h, delta_end)
         values = np.concatenate([np.zeros(n_support), np.full(plate.face.size, target)])
-        held, kept = fixed, values
-        if getattr(fe, "retained", None) is not None:  # nodes whose elements all let go: held
-            loose = np.setdiff1d(nd.ravel(), fe.element_dofs[:, fe.retained > 0].ravel())
-            loose = np.setdiff1d(loose, fixed)
-            held, kept = np.concatenate([fixed, loose]), np.concatenate([values, u[loose]])
+        loose = record.loose(fixed)  # nodes whose elements all let go: held
+        held = np.concatenate([fixed, loose])
+        kept = np.concatenate([values, u[loose]])
         res = solve_increment(fe, steel, state, u, zero, held, kept, rtol=1e-8, max_iter=15)
         if not res.converged:  # cut the increment back
             h *= 0.5
@@ -247,39 +326,6 @@ def rim_pushover(bearing: DFPBearing, *, kinematics: str = "finite",
         if res.iterations <= 6:
             h = min(2.0 * h, delta_end / steps)
         force = float(res.internal_force[nd[0, plate.face]].sum()) * plate.depth
-        p = state.eq_plastic_strain
-        frac = float((p[plate.root_row] > 0).mean())
-        out["d"].append(delta)
-        out["f"].append(force)
-        out["frac"].append(frac)
-        out["p"].append(float(p.max()))
-        out["avg"].append(float((average @ p[rim].ravel()).max()))
-        out["corner"].append(u[nd[:, plate.face[-1]]])
-        if hinge is None and frac >= 1.0:
-            hinge = (delta, force)
-        if tracker is not None:
-            if tracker.update(delta, p, res.stress):
-                fe.retained = tracker.retained.copy()
-            out["damage"].append(tracker.rim_damage[0])
-            out["triax"].append(tracker.rim_triaxiality[0])
-            if tear is None and tracker.first_tear is not None:
-                tear = (delta, force)
-            if tear is not None and erosion_steps and force < SEPARATED * max(out["f"]):
-                separated = True  # the rim is off: nothing left to push
-                break
-    return Pushover(
-        displacement=np.array(out["d"]), force=np.array(out["f"]),
-        yielded_fraction=np.array(out["frac"]),
-        hinge_displacement=None if hinge is None else hinge[0],
-        hinge_force=None if hinge is None else hinge[1],
-        max_plastic_strain=np.array(out["p"]),
-        averaged_plastic_strain=np.array(out["avg"]), kinematics=kinematics, dofs=fe.ndofs,
-        plate=plate, final_displacement=u, final_plastic_strain=state.eq_plastic_strain,
-        damage=np.array(out["damage"]) if tracker is not None else np.zeros(0),
-        triaxiality=np.array(out["triax"]) if tracker is not None else np.zeros(0),
-        fracture_displacement=None if tear is None else tear[0],
-        fracture_force=None if tear is None else tear[1],
-        torn_elements=0 if tracker is None else len(tracker.torn),
-        corner=plate.mesh.p[:, plate.face[-1]] + np.array(out["corner"]),
-        separated=separated,
-    )
+        if record.add(delta, force, u, state, res.stress):
+            break  # the rim is off: nothing left to push
+    return record.pushover(kinematics, u, state)

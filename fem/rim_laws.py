@@ -10,6 +10,7 @@ rims="yielding", rim_law=law)``.
 
 from __future__ import annotations
 
+import functools
 import math
 
 from rigid.bearing import DFPBearing
@@ -26,12 +27,16 @@ from rigid.rims import (
 )
 
 from .pushover import rim_pushover
+from .slider_push import EDGE_RADIUS, rim_slider_push
 
-__all__ = ["rim_law"]
+__all__ = ["PUNCHES", "rim_law"]
+
+#: What pushes the plane-strain rim for its law (:func:`rim_law`'s ``punch``).
+PUNCHES = ("face", "slider")
 
 
 def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str | None = None,
-            cache: bool = True) -> RimLaw:
+            punch: str = "face", edge_radius: float = EDGE_RADIUS, cache: bool = True) -> RimLaw:
     """The law of the bearing's rims, from pushes of its rim by the FE companion, cached in the
     library's cache folder (:func:`rigid.rims.rim_law_cache_file`) per model, geometry and
     steel.
@@ -51,6 +56,16 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str |
         damage and lets its torn elements go (Eqs. F66–F68) until the rim is off, and the law
         follows the falling force and the corner's height (Eqs. R55b, R56c, R64;
         :func:`rigid.rims.rim_law_through_tearing`), about a minute of CPU the first time.
+    punch : {"face", "slider"}
+        What pushes the plane-strain rim: ``"face"`` (default) a uniform displacement of the
+        upper half of its inner face (:func:`fem.rim_pushover`); ``"slider"`` the slider
+        itself moved along its pendulum path into the rim, through the penalty contact
+        (:func:`fem.slider_push.rim_slider_push`, Eq. F71), for the elastic, the fine and the
+        tearing pushes alike: the law through tearing only (``fracture`` needed), a few
+        minutes of CPU the first time. The slider tears a thick rim that the face push does
+        not (docs/fe-companion.md, "The rim pushed by the slider").
+    edge_radius : float [m]
+        With ``punch="slider"``: the slider's rounded edges (default 20 mm).
     cache : bool
         Read and write the cache.
 
@@ -58,30 +73,44 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str |
     -------
     rigid.rims.RimLaw
     """
-    path = rim_law_cache_file(bearing, model, fracture)
+    if punch not in PUNCHES:
+        raise ValueError(f"punch must be one of {', '.join(PUNCHES)}, got {punch!r}")
+    if punch == "slider" and fracture is None:
+        raise ValueError("punch='slider' gives the law through tearing: give fracture= (the "
+                         "law without tearing comes from the face push)")
+    path = rim_law_cache_file(bearing, model, fracture,
+                              edge_radius=edge_radius if punch == "slider" else None)
     if cache and path.exists():
         return load_rim_law(path)
-    law = (_ring_law(bearing) if model == "ring"
-           else _plane_strain_law(bearing, fracture))
+    if model == "ring":
+        law = _ring_law(bearing)
+    elif punch == "slider":
+        law = _plane_strain_law(bearing, fracture, functools.partial(
+            rim_slider_push, edge_radius=edge_radius))
+    else:
+        law = _plane_strain_law(bearing, fracture, rim_pushover)
     if cache:
         save_rim_law(law, path)
     return law
 
 
-def _plane_strain_law(bearing: DFPBearing, fracture: str | None) -> RimLaw:
-    elastic = rim_pushover(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
+def _plane_strain_law(bearing: DFPBearing, fracture: str | None, push) -> RimLaw:
+    """The law from pushes of the plane-strain rim by ``push`` (:func:`fem.rim_pushover` or
+    :func:`fem.slider_push.rim_slider_push`): elastic, fine to the hinge, then to half the
+    rim height (without ``fracture``) or through tearing (with)."""
+    elastic = push(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
     stiffness = float(elastic.force[-1] / elastic.displacement[-1])
     reach, steps = FINE_PUSH
-    fine = rim_pushover(bearing, displacement=reach, steps=steps)
+    fine = push(bearing, displacement=reach, steps=steps)
     while fine.hinge_displacement is None and 2 * reach <= bearing.rim_height / 2:
         reach, steps = 2 * reach, 2 * steps
-        fine = rim_pushover(bearing, displacement=reach, steps=steps)
+        fine = push(bearing, displacement=reach, steps=steps)
     if fracture is None:
-        return rim_law_from_push(bearing, stiffness, fine, rim_pushover(bearing))
+        return rim_law_from_push(bearing, stiffness, fine, push(bearing))
     increment, erosion_steps = TEARING_PUSH
     reach = bearing.rim_thickness + bearing.rim_height
-    torn = rim_pushover(bearing, displacement=reach, steps=round(reach / increment),
-                        fracture=fracture, erosion_steps=erosion_steps, stop_short=True)
+    torn = push(bearing, displacement=reach, steps=round(reach / increment),
+                fracture=fracture, erosion_steps=erosion_steps, stop_short=True)
     return rim_law_through_tearing(bearing, stiffness, fine, torn)
 
 

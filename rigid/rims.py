@@ -236,12 +236,14 @@ def _beyond_push(sets, forces, lever):
 
 
 def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain",
-                       fracture: str | None = None) -> Path:
+                       fracture: str | None = None, *,
+                       edge_radius: float | None = None) -> Path:
     """Where the law of a bearing's rims is cached: ``rim-laws/<key>.npz`` in the library's
     cache folder (:func:`rigid.tasks.cache_root`), keyed by the model it comes from
     (:data:`RIM_LAW_MODELS`), the rim geometry and steel (every field of the bearing but the
-    pressure), the push settings above, the fracture criterion of a law through tearing
-    (keyed only when set) and the code of the pushing model and of this module
+    pressure), the push settings above, the fracture criterion of a law through tearing and
+    the edge radius [m] of the slider that pushed it (``fem.rim_law(..., punch="slider")``;
+    each keyed only when set) and the code of the pushing model and of this module
     (``code_hash("fem", "rim-law")`` or ``code_hash("fem-ring", "rim-law")``)."""
     from .tasks import cache_root, task_key
 
@@ -249,10 +251,14 @@ def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain",
         raise ValueError(f"model must be one of {', '.join(RIM_LAW_MODELS)}, got {model!r}")
     if fracture is not None and model != "plane-strain":
         raise ValueError("a law through tearing comes from the plane-strain push only")
+    if edge_radius is not None and fracture is None:
+        raise ValueError("a law from the slider's push is a law through tearing: give fracture")
     # the bottom plate and its steel: everything but the load on it
     inputs = {k: v for k, v in dataclasses.asdict(bearing).items() if k != "pressure"}
     code = ("fem", "rim-law") if model == "plane-strain" else ("fem-ring", "rim-law")
     tearing = {} if fracture is None else {"fracture": fracture, "tearing": TEARING_PUSH}
+    if edge_radius is not None:
+        tearing["punch"] = {"slider": "pendulum path", "edge_radius": float(edge_radius)}
     key = task_key("rim-law", code, model=model, bearing=inputs, fine=FINE_PUSH,
                    elastic=ELASTIC_PUSH, lever=LEVER_FRACTION, last_cos=LAST_COS, **tearing)
     return cache_root() / "rim-laws" / f"{key}.npz"

@@ -332,6 +332,12 @@ def _validate_parser(sub):
                    "that comes off loses containment (default: --fem-fracture's set with FE "
                    "runs and the plane-strain rim model, else none; "
                    "docs/theory/rigid-body.md, 'Rims that tear')")
+    p.add_argument("--rim-punch", choices=("face", "slider"), default="face",
+                   help="what pushes the plane-strain rim for the law through tearing: a "
+                   "uniform displacement of its inner face (default) or the slider itself on "
+                   "its pendulum path, with --fem-edge-radius's edges (default 20 mm), which "
+                   "tears a thick rim that the face push does not (docs/fe-companion.md, "
+                   "'The rim pushed by the slider')")
     p.add_argument("--out", default="dfp-validation", help="output folder")
     p.add_argument("--scheduler", help="address of a Dask scheduler (default: local processes);"
                    " the results come back here, the workers need no view of --out")

@@ -280,6 +280,20 @@ def _check_edge_radius(bearing: DFPBearing, radius: float) -> None:
         raise CommandError(f"--fem-edge-radius {radius * 1e3:g}: {exc}") from None
 
 
+def _rim_punch_edges(args, rim_fracture) -> float | None:
+    """With ``--rim-punch slider``: the pushing slider's edge radius [m] (``--fem-edge-radius``,
+    else 20 mm); None with the face push."""
+    if args.rim_punch == "face":
+        return None
+    if rim_fracture is None or args.rim_model != "plane-strain":
+        raise CommandError("--rim-punch slider gives the plane-strain law through tearing: it "
+                           "needs --rim-fracture (or --fem-fracture) and --rim-model "
+                           "plane-strain")
+    from fem.slider_push import EDGE_RADIUS
+
+    return args.fem_edge_radius / 1e3 if args.fem_edge_radius else EDGE_RADIUS
+
+
 def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
@@ -325,6 +339,7 @@ def validate(args) -> int:
                            "plane-strain push; it cannot go with --rim-model ring")
     rim_fracture = args.rim_fracture or (
         args.fem_fracture if fem is not None and args.rim_model == "plane-strain" else None)
+    slider_edges = _rim_punch_edges(args, rim_fracture)
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
         ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
     if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
@@ -333,7 +348,8 @@ def validate(args) -> int:
         try:
             with ResultStore(out / "results.sqlite") as store:
                 keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay,
-                              fracture=rim_fracture if "yielding" in args.rims else None)
+                              fracture=rim_fracture if "yielding" in args.rims else None,
+                              edge_radius=slider_edges)
         except MissingResultsError as exc:
             raise CommandError(str(exc)) from None
     if args.rim_model == "ring" and fem is not None:
@@ -346,6 +362,8 @@ def validate(args) -> int:
         rims=tuple(dict.fromkeys(["rigid", *args.rims])),
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
         bearing=bearing, rim_model=args.rim_model, rim_fracture=rim_fracture,
+        **({} if slider_edges is None
+           else {"rim_punch": "slider", "rim_edge_radius": slider_edges}),
     )
     if not args.replay:
         with open(out / "progress.log", "a") as fh:  # a first line at once (#32): rims' law

@@ -54,6 +54,11 @@ class Settings:
     rim_fracture : {"steep", "median", "mild"} or None
         The yielding rims' law through tearing with that fracture set (:func:`fem.rim_law`'s
         ``fracture``); None: the law without tearing.
+    rim_punch : {"face", "slider"}
+        What pushes the plane-strain rim for that law (:func:`fem.rim_law`'s ``punch``; the
+        slider only with ``rim_fracture``).
+    rim_edge_radius : float [m]
+        The pushing slider's rounded edges (``rim_punch="slider"``).
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -69,6 +74,15 @@ class Settings:
     bearing: tuple = ()
     rim_model: str = "plane-strain"
     rim_fracture: str | None = None
+    rim_punch: str = "face"
+    rim_edge_radius: float = 0.02
+
+    def rim_law_options(self) -> dict:
+        """:func:`fem.rim_law`'s keywords for the yielding rims' law."""
+        options = {"model": self.rim_model, "fracture": self.rim_fracture}
+        if self.rim_punch != "face":
+            options.update(punch=self.rim_punch, edge_radius=self.rim_edge_radius)
+        return options
 
     def bearing_at(self, pressure: float) -> DFPBearing:
         """The bearing of the run at ``pressure`` [Pa]."""
@@ -90,8 +104,11 @@ class Settings:
                "SA stop [g]": self.stop / G, "ladder search": self.search,
                "rigid model's rims": ", ".join(self.rims)
                + (f" (yielding: {', '.join(self.ladder_states())}; law from the "
-                  f"{self.rim_model} push" + (f", through tearing ({self.rim_fracture})"
-                                               if self.rim_fracture else "") + ")"
+                  f"{self.rim_model} push"
+                  + (f" by the slider (edges {self.rim_edge_radius * 1e3:g} mm)"
+                     if self.rim_punch == "slider" else "")
+                  + (f", through tearing ({self.rim_fracture})" if self.rim_fracture else "")
+                  + ")"
                   if self.ladder_states() else "")}
         if self.bearing:
             from .bearing_file import describe_variant
@@ -200,8 +217,7 @@ def rigid_tasks(motions, settings: Settings, out: Path):
 
                 kwargs["yielding_states"] = list(settings.ladder_states())
                 kwargs["rim_law"] = rim_law(settings.bearing_at(pressure),  # cached
-                                            model=settings.rim_model,
-                                            fracture=settings.rim_fracture)
+                                            **settings.rim_law_options())
             models = ("rigid", "rim-law", "motions", "collapse") if settings.ladder_states() \
                 else ("rigid", "motions", "collapse")
             key = task_key("rigid-record", models, **kwargs)

@@ -33,11 +33,13 @@ def _from_json(data: dict) -> RimLaw:
 
 
 def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
-                  replay: bool = False, fracture: str | None = None) -> None:
+                  replay: bool = False, fracture: str | None = None,
+                  edge_radius: float | None = None) -> None:
     """Make the rim laws of ``bearing`` from each of ``models`` ("plane-strain", "ring") be
     both in ``store`` and in the library's cache, so that :func:`fem.rim_law` and
     :func:`fem.effective_rim_depth` read them; with ``fracture``, the plane-strain law
-    through tearing with that set too (:func:`fem.rim_law`'s ``fracture``).
+    through tearing with that set too (:func:`fem.rim_law`'s ``fracture``), pushed by the
+    slider with edges of ``edge_radius`` [m] when given (``punch="slider"``).
 
     A law found in the store is written to the cache if the cache lacks it; a law in neither
     is pushed by the FE companion (cached) and stored, unless ``replay``: then
@@ -50,7 +52,8 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
     if fracture is not None:
         wanted.append(("plane-strain", fracture))
     for model, torn in wanted:
-        path = rim_law_cache_file(bearing, model, torn)
+        slider = edge_radius if torn is not None else None
+        path = rim_law_cache_file(bearing, model, torn, edge_radius=slider)
         key = path.stem
         stored = store.get(key)
         if stored is not None:
@@ -62,7 +65,9 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
         elif replay:
             missing.append(model)
         else:
-            store.put(key, "rim-law", _to_json(rim_law(bearing, model=model, fracture=torn)))
+            punch = {} if slider is None else {"punch": "slider", "edge_radius": slider}
+            store.put(key, "rim-law", _to_json(rim_law(bearing, model=model, fracture=torn,
+                                                       **punch)))
     if missing:
         from collections import Counter
 
