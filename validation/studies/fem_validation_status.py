@@ -37,14 +37,19 @@ from . import FEM_VALIDATION
 
 
 def run_settings(limit_states=("hinge",), rim_thickness_mm=None, fracture=None,
-                 edge_radius_mm=0.0) -> Settings:
+                 edge_radius_mm=0.0, rim_punch="face") -> Settings:
     """The settings of ``dfp validate`` without ``--quick`` (FE steps 0.005 s), with
-    ``--rim-thickness``, ``--fem-fracture`` (and so the rigid model's law through tearing) and
-    ``--fem-edge-radius`` when given."""
+    ``--rim-thickness``, ``--fem-fracture`` (and so the rigid model's law through tearing),
+    ``--fem-edge-radius`` and ``--rim-punch`` when given."""
+    from fem.slider_push import EDGE_RADIUS
+
     bearing = () if rim_thickness_mm is None else (("rim_thickness", rim_thickness_mm / 1e3),)
+    punch = {} if rim_punch == "face" else {
+        "rim_punch": rim_punch, "rim_edge_radius": edge_radius_mm / 1e3 or EDGE_RADIUS}
     return Settings(fem=FESettings(max_step=0.005, limit_states=tuple(limit_states),
                                    fracture=fracture, edge_radius=edge_radius_mm / 1e3),
-                    rims=("rigid", "yielding"), bearing=bearing, rim_fracture=fracture)
+                    rims=("rigid", "yielding"), bearing=bearing, rim_fracture=fracture,
+                    **punch)
 
 
 def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
@@ -104,10 +109,12 @@ def main() -> None:
     p.add_argument("--fem-fracture", choices=FRACTURE_SETS, help="the run's --fem-fracture")
     p.add_argument("--fem-edge-radius", type=float, default=0.0,
                    help="the run's --fem-edge-radius [mm]")
+    p.add_argument("--rim-punch", choices=("face", "slider"), default="face",
+                   help="the run's --rim-punch")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
     settings = run_settings(args.limit_state, args.rim_thickness, args.fem_fracture,
-                            args.fem_edge_radius)
+                            args.fem_edge_radius, args.rim_punch)
     rows = replay(args.out, settings, motions)
     write_csv(rows, args.out / "status.csv")
     done = [r for r in rows if r["finished"]]
