@@ -8,7 +8,7 @@ and ``rim_slider_law_rigid.csv``: the rigid model's containment SA with the 80 m
 through tearing from the slider's pushes (``fem.rim_law(..., punch="slider")``; the face
 push does not tear that rim), on the first four records at both pressures.
 
-Run (about 6 minutes of CPU)::
+Run (about 7 minutes of CPU)::
 
     python -m validation.studies.rim_slider_push
 """
