@@ -64,7 +64,8 @@ def main(argv=None) -> None:
         table = validation_table(folder)
         if table is not None:
             name, finished = table
-            rows += [{**r, "run_finished": str(finished)}
+            rows += [{**{k: v for k, v in r.items() if k != "finished"},
+                      "run_finished": str(finished)}
                      for r in comparison(DESIGN_SPACE, {t: folder}, name)
                      if finished or r["finished"] == "True"]
     if not rows:
