@@ -231,8 +231,6 @@ class _Local:
             manager.join(timeout=10)
 
 
-
-
 def run_tasks(
     tasks: Iterable[Task],
     store: ResultStore | None,
@@ -306,7 +304,6 @@ def run_tasks(
     from tqdm.auto import tqdm
 
     queue = deque(tasks)
-    results = {}
     if replay:  # nothing runs: no pool, no cluster
         scheduler, workers = None, 1
     executor = (DaskExecutor(scheduler, worker_wait) if scheduler is not None
@@ -315,8 +312,6 @@ def run_tasks(
     progress = sys.stderr.isatty() if progress is None else progress
     bar = tqdm(total=sum(t.size for t in queue), desc=description, unit=unit,
                disable=not progress, file=sys.stderr, dynamic_ncols=True)
-    in_flight = {}
-    missing = Counter()  # replay: the kinds of the tasks not in the store
 
     def say(text):  # on the bar, and in the log
         bar.set_postfix_str(text)
@@ -330,56 +325,27 @@ def run_tasks(
         bar.close()
         executor.close(cancel=True)
         raise
-    tally = Progress(executor.capacity, log)
-    started = {}  # future → when it was submitted, on tally.clock
-    beat = watch(tally, queue, in_flight, started, bar=bar if progress else None,
+    work = _Work(queue, store, follow_up, replay, seen, bar, Progress(executor.capacity, log))
+    in_flight, started = work.in_flight, work.started
+    beat = watch(work.tally, queue, in_flight, started, bar=bar if progress else None,
                  stream=sys.stderr if plain else None)
-
-    def finish(task, result, seconds=None):
-        results[task.key] = result
-        new = list(follow_up(task, result)) if follow_up else []
-        tally.spawned(task.kind, new, ran=seconds is not None, leads=task.leads, key=task.key)
-        queue.extendleft(reversed(new))  # ahead of the queue: a search's chain is not starved
-        bar.total += sum(t.size for t in new)
-        bar.update(task.size)
-        if seconds is not None:
-            line = tally.record(task.kind, seconds, running(in_flight, started), queue)
-            bar.set_postfix_str(line.split(": ", 1)[1], refresh=False)
-
     try:
         while queue or in_flight:
-            while queue and len(in_flight) < executor.capacity:
-                task = queue.popleft()
-                if task.key in results or any(t.key == task.key for t in in_flight.values()):
-                    bar.total -= task.size  # a duplicate of a task already done or running
-                    continue
-                stored = None if store is None else store.get(task.key)
-                if stored is not None:
-                    if seen is not None:
-                        seen[task.key] = task
-                    finish(task, stored)
-                elif replay:
-                    missing[task.kind] += 1
-                    bar.total -= task.size
-                else:
-                    beat.begin(len(queue) + 1)  # the log's first line, before any run
-                    future = executor.submit(task)
-                    in_flight[future], started[future] = task, tally.clock()
+            while (len(in_flight) < executor.capacity
+                   and (task := work.next_to_run()) is not None):
+                beat.begin(len(queue) + 1)  # the log's first line, before any run
+                future = executor.submit(task)
+                in_flight[future], started[future] = task, work.tally.clock()
             for future in executor.wait_one(in_flight):
                 task = in_flight.pop(future)
                 started.pop(future, None)
                 result, seconds = executor.result(future)
                 if store is not None:
                     store.put(task.key, task.kind, result, seconds)
-                finish(task, result, seconds)
+                work.finish(task, result, seconds)
     except ClusterError as exc:
         executor.close(cancel=True, futures=in_flight)
-        n, where = len(results), "done"
-        if store is not None:
-            with contextlib.suppress(OSError):  # a store that fails too: the results seen
-                n, where = store.count(), f"stored in {store.path}"
-        kept = f"{n} result{'' if n == 1 else 's'} {where}"
-        raise ClusterError(f"{exc}; {kept}; rerun to resume") from None
+        raise ClusterError(f"{exc}; {_kept(work.results, store)}; rerun to resume") from None
     except BaseException:
         executor.close(cancel=True, futures=in_flight)
         raise
@@ -387,6 +353,65 @@ def run_tasks(
         beat.stop()
         bar.close()
     executor.close()
-    if missing:
-        raise MissingResultsError(missing, store)
-    return results
+    if work.missing:
+        raise MissingResultsError(work.missing, store)
+    return work.results
+
+
+class _Work:
+    """The queue of :func:`run_tasks` and its book-keeping: the results by key, the tasks in
+    flight (future → task) and when each was submitted, the follow-ups, the progress bar and
+    :class:`Progress`; in a replay, the kinds of the tasks not in the store."""
+
+    def __init__(self, queue, store, follow_up, replay, seen, bar, tally):
+        self.queue, self.store, self.follow_up = queue, store, follow_up
+        self.replay, self.seen, self.bar, self.tally = replay, seen, bar, tally
+        self.results, self.in_flight, self.started = {}, {}, {}
+        self.missing = Counter()
+
+    def next_to_run(self) -> Task | None:
+        """The next queued task that must run, or None once the queue is empty; on the way,
+        drop duplicates of tasks done or running, and finish the tasks found in the store (in
+        a replay, count those that are not)."""
+        while self.queue:
+            task = self.queue.popleft()
+            if task.key in self.results or any(t.key == task.key
+                                               for t in self.in_flight.values()):
+                self.bar.total -= task.size  # a duplicate of a task already done or running
+                continue
+            stored = None if self.store is None else self.store.get(task.key)
+            if stored is not None:
+                if self.seen is not None:
+                    self.seen[task.key] = task
+                self.finish(task, stored)
+            elif self.replay:
+                self.missing[task.kind] += 1
+                self.bar.total -= task.size
+            else:
+                return task
+        return None
+
+    def finish(self, task: Task, result, seconds: float | None = None) -> None:
+        """Book ``result`` of ``task`` (run for ``seconds``, or None: read from the store) and
+        queue its follow-ups ahead of the queue, so that a search's chain is not starved."""
+        self.results[task.key] = result
+        new = list(self.follow_up(task, result)) if self.follow_up else []
+        self.tally.spawned(task.kind, new, ran=seconds is not None, leads=task.leads,
+                           key=task.key)
+        self.queue.extendleft(reversed(new))
+        self.bar.total += sum(t.size for t in new)
+        self.bar.update(task.size)
+        if seconds is not None:
+            line = self.tally.record(task.kind, seconds, running(self.in_flight, self.started),
+                                     self.queue)
+            self.bar.set_postfix_str(line.split(": ", 1)[1], refresh=False)
+
+
+def _kept(results: dict, store) -> str:
+    """What a stopped run keeps: the results in ``store`` (or, if it cannot be read, those
+    seen)."""
+    n, where = len(results), "done"
+    if store is not None:
+        with contextlib.suppress(OSError):  # a store that fails too: the results seen
+            n, where = store.count(), f"stored in {store.path}"
+    return f"{n} result{'' if n == 1 else 's'} {where}"
