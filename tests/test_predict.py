@@ -18,35 +18,52 @@ DT = 0.01
 STEP = 0.01 * G  # the paper's ladder
 
 
-@pytest.mark.parametrize("kind, period, criterion, weighting",
-                         [("symmetric", 2.5, 4, "all"), ("antisymmetric", 2.5, 3, "1/sqrt(s)")])
-def test_prediction_is_exact_for_a_pure_pulse(kind, period, criterion, weighting, light):
+#: Candidate pulse periods [s] of the pure-pulse cases, in the order they are tried.
+CANDIDATE_PERIODS = (2.5, 2.6, 3.0, 2.4)
+
+
+def _steady_case(bearing, kind, criterion, weighting):
+    """The first candidate pure pulse whose verdicts near its predicted answer are not chaotic:
+    (its record, the prediction). The verdict at the predicted rung and at the rung below must
+    not change under ±1e-6 changes of Ap."""
+    region = pulse_region(bearing, kind)
+    tried = []
+    for period in CANDIDATE_PERIODS:
+        _, a = ricker_record(1.0, period, kind, dt=DT, free=5.0)
+        pred = predict_critical_sa(bearing, a, criterion=criterion, step=STEP, dt=DT,
+                                   weighting=weighting)
+        assert pred.sa is not None, f"Tp = {period} s: no predicted failure"
+        first = next(r for r in pred.rungs if r.sa == pred.sa)
+        below = next(r for r in pred.rungs if r.index == first.index - 1)
+        if all({region(pred.pulse.period, rung.amplitude * (1 + e)) for e in (-1e-6, 1e-6)}
+               == {verdict} for rung, verdict in ((first, 2), (below, below.region))):
+            return period, a, pred
+        tried.append(period)
+    pytest.fail(f"the verdicts near the answer are chaotic for every candidate period {tried}")
+
+
+@pytest.mark.parametrize("kind, criterion, weighting",
+                         [("symmetric", 4, "all"), ("antisymmetric", 3, "1/sqrt(s)")])
+def test_prediction_is_exact_for_a_pure_pulse(kind, criterion, weighting, light):
     """A record that *is* a Ricker pulse: the prediction equals the time-history critical SA
     within one 0.01 g ladder step (the method is exact for its own assumptions; what remains
     is the pulse's resampling and the extraction's ~1e-8 error). Measured: equal (0.67 g and
-    0.59 g). The weighting is one under which the extraction is exact on a pure pulse:
-    criterion 4 under the paper's pooled weightings, criterion 3 only with 1/sqrt(s) (pooled,
-    it takes a 1/s candidate 18 % short; tests/test_wavelet.py).
+    0.59 g at Tp = 2.5 s). The weighting is one under which the extraction is exact on a pure
+    pulse: criterion 4 under the paper's pooled weightings, criterion 3 only with 1/sqrt(s)
+    (pooled, it takes a 1/s candidate 18 % short; tests/test_wavelet.py).
 
     Near the threshold the rigid model's verdict can flip under round-off-level changes of
     the input: a symmetric 2 s pulse used here before flipped between 0.38 and 0.63 g with a
-    3e-9 change of Ap (docs/critical_sa.md). So the premise is checked first: the verdict at
-    the predicted rung and the rung below must not change under ±1e-6 changes of Ap; if it
-    does, the case says nothing about the method and another one must be chosen."""
-    _, a = ricker_record(1.0, period, kind, dt=DT, free=5.0)
+    3e-9 change of Ap (docs/critical_sa.md), and the symmetric 2.5 s pulse's verdict at 0.67 g
+    is steady under ±1e-6 on one machine and not on another (other CPU, other numpy). Such a
+    case says nothing about the method, so the case is the first candidate period whose
+    verdicts at the predicted rung and the rung below are steady (:func:`_steady_case`)."""
+    period, a, pred = _steady_case(light, kind, criterion, weighting)
     actual = critical_sa(light, a, STEP, dt=DT)
-    pred = predict_critical_sa(light, a, criterion=criterion, step=STEP, dt=DT,
-                               weighting=weighting)
     assert pred.pulse.kind == kind
     assert pred.pulse.period == pytest.approx(period, rel=1e-4)  # extraction: exact recovery
-    assert actual.sa is not None and pred.sa is not None
-    region = pulse_region(light, kind)
-    first = next(r for r in pred.rungs if r.sa == pred.sa)
-    below = next(r for r in pred.rungs if r.index == first.index - 1)
-    for rung, verdict in ((first, 2), (below, below.region)):
-        assert {region(pred.pulse.period, rung.amplitude * (1 + e))
-                for e in (-1e-6, 1e-6)} == {verdict}, "chaotic verdict: choose another case"
-    assert abs(pred.sa - actual.sa) <= STEP * (1 + 1e-9)
+    assert actual.sa is not None
+    assert abs(pred.sa - actual.sa) <= STEP * (1 + 1e-9), f"Tp = {period} s"
     assert pred.criterion == criterion
 
 
