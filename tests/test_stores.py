@@ -18,22 +18,9 @@ from pathlib import Path
 
 import pytest
 
-DOCS = Path(__file__).resolve().parents[1] / "docs"
+from validation.studies.committed_stores import DESIGN_SPACES, REPLAYABLE, UNFINISHED, rekey_command
 
-#: Folders replayable with today's code, and the arguments of the `dfp validate` that made
-#: each (the folders' docs give the same commands).
-REPLAYABLE = {
-    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
-                       "--limit-state", "hinge", "rupture", "containment"],
-    "rim-design/fem-120": ["--rim-thickness", "120", "--limit-state", "rupture",
-                           "--stop", "3"],
-    "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
-                           "--stop", "3"],
-    "rim-design/fem-240": ["--rim-thickness", "240", "--limit-state", "rupture",
-                           "--stop", "3"],
-    "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
-                                "--fem-edge-radius", "20"],
-}
+DOCS = Path(__file__).resolve().parents[1] / "docs"
 
 
 def _answers(path: Path) -> dict:
@@ -58,14 +45,7 @@ def test_committed_store_replays_without_computing(tmp_path, folder):
     assert _answers(out / "fem_comparison.csv") == _answers(DOCS / folder / "fem_comparison.csv")
 
 
-#: The design-space studies' folders (docs/rim-design) and their arguments.
-STUDIES = {
-    "rim-design": [],
-    "rim-design/rims45": ["--thicknesses", "80", "160", "320", "--rim-height", "45"],
-}
-
-
-@pytest.mark.parametrize("folder", sorted(STUDIES))
+@pytest.mark.parametrize("folder", sorted(DESIGN_SPACES))
 def test_the_design_space_replays_without_computing(tmp_path, folder):
     """Its 560 rigid-model cases and its rims' laws (the 2-D pushes) from the stores alone."""
     out = tmp_path / "out"
@@ -73,11 +53,25 @@ def test_the_design_space_replays_without_computing(tmp_path, folder):
     shutil.copy(DOCS / folder / "store" / "results.sqlite", out / "store")
     env = {**os.environ, "DFP_CACHE_DIR": str(tmp_path / "empty-cache")}
     done = subprocess.run(
-        [sys.executable, "-m", "validation.studies.rim_design", *STUDIES[folder],
+        [sys.executable, "-m", "validation.studies.rim_design", *DESIGN_SPACES[folder],
          "--out", str(out), "--replay"], capture_output=True, text=True, timeout=600, env=env)
     assert done.returncode == 0, done.stderr
     for name in ("cases.csv", "rim_capacity.csv", "failure_mode_map.csv"):
         assert (out / name).read_text() == (DOCS / folder / name).read_text(), name
+
+
+def test_the_registry_names_the_committed_stores():
+    """Every folder of validation.studies.committed_stores holds a store, and its carrying
+    over is the command that made it with --rekey-from (the design spaces' study, or dfp
+    validate with the folder's arguments)."""
+    for folder in [*REPLAYABLE, *UNFINISHED]:
+        assert (DOCS / folder / "results.sqlite").is_file(), folder
+        command = rekey_command(folder, "abc1234")
+        assert command[2:4] == ["validation.cli", "validate"]
+        assert command[command.index("--out") + 1] == str(DOCS / folder)
+    for folder in DESIGN_SPACES:
+        assert (DOCS / folder / "store" / "results.sqlite").is_file(), folder
+        assert rekey_command(folder, "abc1234")[-2:] == ["--rekey-from", "abc1234"]
 
 
 def test_the_rim_pushes_replay_without_computing(tmp_path):

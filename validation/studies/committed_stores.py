@@ -1,0 +1,94 @@
+"""The committed result stores, the commands that made them, and their carrying over.
+
+Every stored result is keyed by the code of the models that computed it
+(:data:`rigid.tasks.cache.MODEL_CODE`), so any edit below ``fem/`` or ``meshes/`` (a comment
+included) makes the stored FE runs and rim laws unreachable. Where the edit leaves the
+physics alone, each store is carried over to today's keys by the command that made it with
+``--rekey-from REVISION`` (:func:`rigid.tasks.rekey.rekey`: the two shortest tasks of each
+kind are rerun and must come out identical). This module is the one list of those stores:
+``tests/test_stores.py`` replays the finished ones, and::
+
+    python -m validation.studies.committed_stores --rekey-from REVISION [--only FOLDER ...]
+
+carries the finished ones over, one after the other (about 30 min of CPU in all, most of it the
+design spaces' rim pushes), in a checkout whose code is today's; REVISION is the last commit
+whose code made them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+
+from . import DOCS
+
+#: ``dfp validate`` folders under docs/ that replay with today's code, and the arguments that
+#: made each (besides ``--out``); their READMEs give the same commands.
+REPLAYABLE = {
+    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
+                       "--limit-state", "hinge", "rupture", "containment"],
+    "rim-design/fem-120": ["--rim-thickness", "120", "--limit-state", "rupture",
+                           "--stop", "3"],
+    "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
+                           "--stop", "3"],
+    "rim-design/fem-240": ["--rim-thickness", "240", "--limit-state", "rupture",
+                           "--stop", "3"],
+    "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
+                                "--fem-edge-radius", "20"],
+}
+
+#: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
+#: as far as their store goes only when named (``--only``), since the command then goes on
+#: with the run (hours).
+UNFINISHED = {
+    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
+                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
+                                       "--rim-punch", "slider"],
+}
+
+#: The design spaces (``python -m validation.studies.rim_design``): folder → arguments.
+DESIGN_SPACES = {
+    "rim-design": [],
+    "rim-design/rims45": ["--thicknesses", "80", "160", "320", "--rim-height", "45"],
+}
+
+
+def rekey_command(folder: str, revision: str) -> list[str]:
+    """The command that carries the store of ``folder`` (under docs/) over from the keys of
+    ``revision``'s code to today's."""
+    out = ["--out", str(DOCS / folder), "--rekey-from", revision]
+    if folder in DESIGN_SPACES:
+        return [sys.executable, "-m", "validation.studies.rim_design", *DESIGN_SPACES[folder],
+                *out]
+    args = {**REPLAYABLE, **UNFINISHED}[folder]
+    return [sys.executable, "-m", "validation.cli", "validate", *args, *out, "--no-progress"]
+
+
+def main(argv=None) -> int:
+    finished = [*REPLAYABLE, *DESIGN_SPACES]
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--rekey-from", metavar="REVISION", required=True,
+                   help="the last commit whose code made the stores")
+    p.add_argument("--only", nargs="+", choices=[*finished, *UNFINISHED], metavar="FOLDER",
+                   help=f"these folders only (default: {', '.join(finished)}; an unfinished "
+                   f"one, {', '.join(UNFINISHED)}, then goes on with its run)")
+    args = p.parse_args(argv)
+    failed = []
+    for folder in args.only or finished:
+        t0 = time.perf_counter()
+        print(f"{folder}: carrying over from {args.rekey_from}", flush=True)
+        done = subprocess.run(rekey_command(folder, args.rekey_from))
+        print(f"{folder}: {'done' if done.returncode == 0 else 'FAILED'} in "
+              f"{time.perf_counter() - t0:.0f} s", flush=True)
+        if done.returncode:
+            failed.append(folder)
+    if failed:
+        print(f"not carried over: {', '.join(failed)}", file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
