@@ -86,6 +86,29 @@ def test_the_rim_pushes_replay_without_computing(tmp_path):
     assert (out / "pushes.csv").read_text() == (DOCS / "rim-3d" / "pushes.csv").read_text()
 
 
+def test_a_stored_law_replaces_a_cached_one_pushed_elsewhere(tmp_path, monkeypatch):
+    """The same push made on another machine differs in its last digits, and the stored runs
+    key on the law's numbers: a run resumed from a store must use the store's law, not the one
+    in the user's cache (else every rigid record of the store is computed again)."""
+    import dataclasses
+
+    from rigid import DFPBearing
+    from rigid.rims import load_rim_law, rim_law_cache_file, save_rim_law
+    from rigid.tasks import ResultStore
+    from validation.stored_rim_laws import _from_json, keep_rim_laws
+
+    monkeypatch.setenv("DFP_CACHE_DIR", str(tmp_path / "cache"))
+    shutil.copy(DOCS / "example-report" / "results.sqlite", tmp_path)
+    bearing = DFPBearing()
+    path = rim_law_cache_file(bearing, "plane-strain")
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        stored = _from_json(store.get(path.stem))
+        elsewhere = dataclasses.replace(stored, stiffness=stored.stiffness * (1 + 1e-12))
+        save_rim_law(elsewhere, path)
+        keep_rim_laws(store, bearing, ["plane-strain"], replay=True)
+    assert load_rim_law(path).stiffness == stored.stiffness != elsewhere.stiffness
+
+
 def test_a_replay_names_what_its_store_lacks(tmp_path):
     """An empty store: the rim law (yielding rims, the default) is the first thing missing;
     with rigid rims only, the record's ladders; one line, nothing computed."""

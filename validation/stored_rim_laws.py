@@ -6,7 +6,7 @@ two laws. Both come from FE pushes that the library caches outside the run's fol
 (:func:`fem.rim_law`), so a store alone could not be replayed on another machine: the ring's
 push takes minutes. Each law is therefore stored in ``results.sqlite`` under the key of
 its cache file (which includes the pushing model's code), and planted in the cache from there
-when the cache lacks it.
+when the cache lacks it or holds a law pushed elsewhere.
 """
 
 from __future__ import annotations
@@ -41,7 +41,8 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
     through tearing with that set too (:func:`fem.rim_law`'s ``fracture``), pushed by the
     slider with edges of ``edge_radius`` [m] when given (``punch="slider"``).
 
-    A law found in the store is written to the cache if the cache lacks it; a law in neither
+    A law found in the store is written to the cache if the cache lacks it or holds another
+    (the same push made on another machine rounds differently); a law in neither
     is pushed by the FE companion (cached) and stored, unless ``replay``: then
     :class:`rigid.tasks.MissingResultsError` names it. The pressure does not matter.
     """
@@ -57,7 +58,9 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
         key = path.stem
         stored = store.get(key)
         if stored is not None:
-            if not path.exists():
+            # the store's law wins over a cached one pushed elsewhere (its last digits differ
+            # from machine to machine, and the stored runs key on its numbers)
+            if not path.exists() or _to_json(load_rim_law(path)) != stored:
                 save_rim_law(_from_json(stored), path)
             continue
         if path.exists():
