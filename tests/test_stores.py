@@ -219,6 +219,27 @@ def test_rekey_carries_results_over_a_change_that_leaves_the_physics_alone(tmp_p
 
 
 @pytest.mark.skipif(shutil.which("git") is None, reason="re-keying reads code through git")
+def test_rekey_accepts_another_machines_rounding_and_nothing_more(tmp_path, monkeypatch):
+    """A rerun on another machine rounds differently (measured: up to 3e-11 relative on an FE
+    run): a change of 1e-12 relative is carried over, and the largest one reported; a change
+    of 1e-5, ten times the tolerance (rigid.tasks.rekey.RTOL), is refused."""
+    from rigid.tasks import ResultStore, run_tasks
+    from rigid.tasks.rekey import RTOL, RekeyError, rekey
+
+    assert RTOL == 1e-6
+    repo = _toy_repo(tmp_path, monkeypatch, {"toy.py": SQUARE}, {"toy": ("toy.py",)})
+    store = ResultStore(tmp_path / "r.sqlite")
+    run_tasks(_toy_tasks(repo, 4), store, workers=1, progress=False)
+    _edit_toy(repo, "def f(x):\n    return x * x * (1 + 1e-5)\n")
+    with pytest.raises(RekeyError, match="differs"):
+        rekey(store, _toy_replay(store, repo, 4), "HEAD")
+    _edit_toy(repo, "def f(x):\n    return x * x * (1 + 1e-12)\n")
+    carried = rekey(store, _toy_replay(store, repo, 4), "HEAD")
+    assert carried == {"toy": 4}
+    assert carried.largest_change == pytest.approx(1e-12, rel=1e-3)
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="re-keying reads code through git")
 def test_rekey_hashes_a_revision_with_its_own_model_code(tmp_path, monkeypatch):
     """A toy repository whose committed MODEL_CODE gives a sub-folder a model of its own;
     today's merges it into its parent (as fem/fracture joined fem). The results stored under

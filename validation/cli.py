@@ -354,8 +354,8 @@ def _validate_parser(sub):
     p.add_argument("--rekey-from", metavar="REVISION",
                    help="carry the results stored in --out by the code of a git REVISION "
                    "over to today's keys, after rerunning the shortest two of each kind with "
-                   "today's code and finding them identical (for a change of code that leaves "
-                   "the physics alone); needs a git checkout")
+                   "today's code and finding them equal, floats to 1e-6 (for a change of code "
+                   "that leaves the physics alone); needs a git checkout")
     p.set_defaults(func=validate)
 
 

@@ -437,7 +437,8 @@ def _rekey(revision: str, motions, settings, out: Path) -> None:
         return
     what = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.items()))
     print(f"results carried over from the code of {revision}: {what} (the shortest two of "
-          "each kind rerun with today's code: identical)"
+          "each kind rerun with today's code: equal, largest relative change of a float "
+          f"{carried.largest_change:.1e})"
           + (f"; not stored, to be computed by a run: {lacking}" if lacking else ""))
 
 

@@ -227,7 +227,8 @@ def _rekey(args) -> None:
     with ResultStore(args.out / "store" / "results.sqlite") as store:
         carried = rekey(store, replay, args.rekey_from)
     print(f"--rekey-from {args.rekey_from}: carried over "
-          f"{', '.join(f'{k} {n}' for k, n in sorted(carried.items())) or 'nothing'}"
+          f"{', '.join(f'{k} {n}' for k, n in sorted(carried.items())) or 'nothing'} "
+          f"(largest relative change of a rerun's float {carried.largest_change:.1e})"
           + (f"; not stored: {dict(carried.missing)}" if carried.missing else ""))
 
 
@@ -249,7 +250,7 @@ def main(argv=None) -> None:
                    help="run nothing: every case and rim law from the store")
     p.add_argument("--rekey-from", metavar="REVISION",
                    help="first carry the cases that REVISION's code stored over to today's "
-                   "keys, once the shortest two of each kind rerun identical "
+                   "keys, once the shortest two of each kind rerun equal "
                    "(rigid.tasks.rekey.rekey)")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
