@@ -9,6 +9,7 @@ integrity check, the process table (/proc) and the report's own text.
 
 import os
 import re
+import shutil
 import signal
 import sqlite3
 import subprocess
@@ -201,6 +202,27 @@ def test_damaged_store_is_moved_aside_and_rebuilt(tmp_path):
     assert store.get("k0") == {"i": 0, "pad": "y" * 200}
     store.close()
     assert len(list(tmp_path.glob("results.sqlite.damaged-*"))) >= 1
+
+
+@pytest.mark.parametrize("every, kept", [(0.0, 5), (3600.0, 0)])
+def test_the_store_file_alone_holds_what_was_checkpointed(tmp_path, monkeypatch, every, kept):
+    """A copy of the store's file without its write-ahead log (what a checkout keeps, the
+    ``-wal`` file being ignored) holds the results of the last checkpoint: all of them when
+    every put checkpoints, none when none has yet (the hour's interval), which is what lost
+    a validation run's hour and a half before the store checkpointed as it writes."""
+    from rigid.tasks import store as store_module
+
+    monkeypatch.setattr(store_module, "CHECKPOINT_EVERY", every)
+    path = tmp_path / "results.sqlite"
+    live = ResultStore(path)  # kept open, as by a run under way: no checkpoint at close
+    for i in range(5):
+        live.put(f"k{i}", "x", {"i": i})
+    copy = tmp_path / "copy" / "results.sqlite"
+    copy.parent.mkdir()
+    shutil.copy(path, copy)
+    with ResultStore(copy) as alone:
+        assert alone.count() == kept
+    live.close()
 
 
 def test_validation_run_on_a_damaged_store(tmp_path, capsys):

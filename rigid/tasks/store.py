@@ -6,6 +6,9 @@ never replays an old result.
 Each result is its own transaction in WAL mode, so a killed process loses at most the
 simulation in flight and never leaves a half-written row; several processes may write to one
 file (the impact sweeps' workers do; the task runner writes from the coordinating process).
+The log is written into the file at least every :data:`CHECKPOINT_EVERY` seconds of writing,
+so that the file alone is never far behind (a checkout that kept the file but not its
+``-wal`` lost an hour and a half of a validation run before it was).
 A damaged file (a disk error, a copy cut short or taken mid-write, anything not SQLite) is
 detected when the store is opened, rebuilt beside it from the results that can still be read,
 and only then moved aside (:class:`StoreRecoveredWarning`, which says how many results were
@@ -36,6 +39,11 @@ from .cache import code_hash
 
 #: Bump when the layout or meaning of stored results changes (code changes are in the key).
 SCHEMA = "dfp-results-2"
+
+#: Seconds between two checkpoints of the write-ahead log into the store's file by one
+#: writer (:meth:`ResultStore.put`), so that the file alone (a commit of it, a copy that
+#: leaves the ``-wal`` file behind) is never more than this behind the results stored.
+CHECKPOINT_EVERY = 60.0
 
 #: Metadata of a dataclass field that keys a result only when it differs from its default
 #: (``dataclasses.field(..., metadata=KEYED_WHEN_SET)``): a new option, off by default,
@@ -240,6 +248,7 @@ class ResultStore:
 
     def __init__(self, path):
         self.path = Path(path)
+        self._checkpointed = time.monotonic()
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with _exclusive(self.path.with_name(self.path.name + ".lock")):
             empty = self.path.is_file() and self.path.stat().st_size == 0 and not (
@@ -337,12 +346,17 @@ class ResultStore:
 
     @_named
     def put(self, key: str, kind: str, result, seconds: float | None = None) -> None:
-        """Store one result (JSON-serialisable) in its own transaction."""
+        """Store one result (JSON-serialisable) in its own transaction; at most every
+        :data:`CHECKPOINT_EVERY` seconds, also into the file itself (a passive checkpoint of
+        the write-ahead log, which waits for no one)."""
         self._db.execute(
             "INSERT OR REPLACE INTO results (key, kind, result, seconds, created) "
             "VALUES (?, ?, ?, ?, ?)",
             (key, kind, json.dumps(result), seconds, time.time()),
         )
+        if time.monotonic() - self._checkpointed >= CHECKPOINT_EVERY:
+            self._db.execute("PRAGMA wal_checkpoint(PASSIVE)")
+            self._checkpointed = time.monotonic()
 
     @_named
     def seconds(self, key: str) -> float | None:
