@@ -1,5 +1,6 @@
 """What a re-keying compares (rigid.tasks.rekey): a rerun's result against the stored one,
-its timings aside, so that a rerun on another machine or load can be identical."""
+its timings aside and its floats to a relative tolerance, so that a rerun on another
+machine or load can pass."""
 
 from rigid.tasks.rekey import _differences, _physics
 
@@ -17,3 +18,19 @@ def test_timings_are_left_out_and_the_physics_kept():
     moved = {**rerun, "failure_time": 7.8}
     assert _differences(_physics(moved), _physics(stored)) == [
         "failure_time: 7.8 now, 7.7 stored"]
+
+
+def test_floats_compare_to_the_tolerance_and_everything_else_exactly():
+    """Another machine's rounding (1e-10 relative, the largest measured on an FE run) passes
+    and is reported as the largest change; 1e-5 relative, an integer one step off, a flipped
+    verdict and a field present on one side only do not."""
+    from rigid.tasks.rekey import _largest_change
+
+    stored = {"sa": 0.25, "steps": 3209, "failed": True, "peaks": [1.0, -2.0, 0.0]}
+    rerun = {**stored, "sa": 0.25 * (1 + 1e-10), "peaks": [1.0, -2.0 * (1 - 1e-10), 0.0]}
+    assert _differences(rerun, stored) == []
+    assert abs(_largest_change(rerun, stored) - 1e-10) < 1e-14
+    for field, value in (("sa", 0.25 * (1 + 1e-5)), ("steps", 3210), ("failed", False),
+                         ("mode", "yielding")):
+        assert [d.split(":")[0] for d in _differences({**stored, field: value}, stored)] == [
+            field]

@@ -155,39 +155,40 @@ def _physics(result):
     return strip(json.loads(json.dumps(result)))
 
 
-def _floats(now, then) -> bool:
-    return (isinstance(now, float) or isinstance(then, float)) and all(
-        isinstance(x, (int, float)) and not isinstance(x, bool) for x in (now, then))
-
-
-def _differences(now, then, where: str = "", rtol: float = RTOL) -> list[str]:
-    """The paths (``a.b[2]``) at which two results read back from JSON differ (floats by more
-    than ``rtol`` relative), with both values where they are plain: what a refused
-    re-keying reports."""
+def _leaves(now, then, where: str = ""):
+    """The plain values of two results read back from JSON, pairwise, with their paths
+    (``a.b[2]``); a dict's key in one only, or lists of other lengths, pair as wholes."""
     if isinstance(now, dict) and isinstance(then, dict):
-        return [d for k in sorted(set(now) | set(then), key=str)
-                for d in _differences(now.get(k), then.get(k), f"{where}.{k}".lstrip("."),
-                                      rtol)]
-    if isinstance(now, list) and isinstance(then, list) and len(now) == len(then):
-        return [d for i, (a, b) in enumerate(zip(now, then, strict=True))
-                for d in _differences(a, b, f"{where}[{i}]", rtol)]
-    if _floats(now, then) and math.isclose(now, then, rel_tol=rtol, abs_tol=1e-300):
-        return []
-    return [] if now == then else [f"{where or 'the result'}: {now!r} now, {then!r} stored"]
+        for k in sorted(set(now) | set(then), key=str):
+            yield from _leaves(now.get(k), then.get(k), f"{where}.{k}".lstrip("."))
+    elif isinstance(now, list) and isinstance(then, list) and len(now) == len(then):
+        for i, (a, b) in enumerate(zip(now, then, strict=True)):
+            yield from _leaves(a, b, f"{where}[{i}]")
+    else:
+        yield where or "the result", now, then
+
+
+def _relative_change(now, then) -> float | None:
+    """|now − then| / max(|now|, |then|) of two finite numbers one of which is a float, else
+    None (integers, booleans and names compare exactly)."""
+    numbers = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (now, then))
+    if not (numbers and (isinstance(now, float) or isinstance(then, float))
+            and math.isfinite(now) and math.isfinite(then)):
+        return None
+    return 0.0 if now == then else abs(now - then) / max(abs(now), abs(then))
+
+
+def _differences(now, then, rtol: float = RTOL) -> list[str]:
+    """Where two results read back from JSON differ (floats by more than ``rtol``
+    relative), with both values: what a refused re-keying reports."""
+    return [f"{where}: {a!r} now, {b!r} stored" for where, a, b in _leaves(now, then)
+            if a != b and ((change := _relative_change(a, b)) is None or change > rtol)]
 
 
 def _largest_change(now, then) -> float:
-    """The largest relative difference between the floats of two results that
-    :func:`_differences` finds equal (0 where all are identical)."""
-    if isinstance(now, dict) and isinstance(then, dict):
-        return max((_largest_change(now[k], then[k]) for k in now.keys() & then.keys()),
-                   default=0.0)
-    if isinstance(now, list) and isinstance(then, list) and len(now) == len(then):
-        return max((_largest_change(a, b) for a, b in zip(now, then, strict=True)),
-                   default=0.0)
-    if _floats(now, then) and now != then and math.isfinite(now) and math.isfinite(then):
-        return abs(now - then) / max(abs(now), abs(then))
-    return 0.0
+    """The largest relative change of a float between two results (0: none changed)."""
+    return max((c for _, a, b in _leaves(now, then)
+                if (c := _relative_change(a, b)) is not None), default=0.0)
 
 
 def rekey(store, replay: Callable[[dict], None], revision: str, *,
