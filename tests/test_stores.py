@@ -109,6 +109,35 @@ def test_a_stored_law_replaces_a_cached_one_pushed_elsewhere(tmp_path, monkeypat
     assert load_rim_law(path).stiffness == stored.stiffness != elsewhere.stiffness
 
 
+def test_the_status_of_a_run_replays_with_the_stores_law(tmp_path, monkeypatch):
+    """validation.studies.fem_validation_status reads a run's searches from its store with
+    the store's rim law, not one pushed on this machine (last digits apart): on the first
+    two records of docs/fem-validation-fracture, the FE answers the folder documents."""
+    import dataclasses
+
+    from rigid import DFPBearing, G, fema_p695
+    from rigid.rims import rim_law_cache_file, save_rim_law
+    from rigid.tasks import ResultStore
+    from validation.stored_rim_laws import _from_json
+    from validation.studies.fem_validation_status import replayed, run_settings
+
+    monkeypatch.setenv("DFP_CACHE_DIR", str(tmp_path / "cache"))
+    shutil.copy(DOCS / "fem-validation-fracture" / "results.sqlite", tmp_path)
+    path = rim_law_cache_file(DFPBearing(), "plane-strain", "median")
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        law = _from_json(store.get(path.stem))
+    save_rim_law(dataclasses.replace(law, stiffness=law.stiffness * (1 + 1e-12)), path)
+    motions = fema_p695("nearfield_pulse")[:2]
+    settings = run_settings(("containment",), fracture="median", edge_radius_mm=20.0)
+    searches, owners = replayed(tmp_path, settings, motions)
+    found = {(motions[i].name, f"{p / 1e6:g}"): f"{r.sa / G:g}"
+             for (p, i), r in zip(owners, searches.results(), strict=True)}
+    with open(DOCS / "fem-validation-fracture" / "fem_comparison.csv", newline="") as fh:
+        documented = {(r["record"], r["pressure_mpa"]): r["fem_sa_g"]
+                      for r in csv.DictReader(fh) if (r["record"], r["pressure_mpa"]) in found}
+    assert len(found) == 4 and found == documented
+
+
 def test_a_replay_names_what_its_store_lacks(tmp_path):
     """An empty store: the rim law (yielding rims, the default) is the first thing missing;
     with rigid rims only, the record's ladders; one line, nothing computed."""

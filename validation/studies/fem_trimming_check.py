@@ -6,10 +6,12 @@ The cases taken are the ones whose trimmed run stopped earliest before the recor
 the free time.
 
 Run: ``python -m validation.studies.fem_trimming_check [--out docs/fem-validation]
-[--cases 6] [--workers 2]``; the untrimmed runs are stored tasks in
-``docs/results/fem_trimming_check/results.sqlite`` (resumable), the table goes to
-``docs/results/fem_trimming_check.csv``. The rigid model's check of the same trimming on all
-56 cases is ``validation.studies.trimming_check``.
+[--cases 6] [--workers 2]`` with the validation run's settings (``--limit-state``,
+``--rim-thickness``, ``--fem-fracture``, ``--fem-edge-radius``, ``--rim-punch``); the
+untrimmed runs are stored tasks in ``docs/results/<name>/results.sqlite`` (resumable), the
+table goes to ``docs/results/<name>.csv`` (``--name``, default ``fem_trimming_check``). The
+rigid model's check of the same trimming on all 56 cases is
+``validation.studies.trimming_check``.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from fem.fracture import FRACTURE_SETS
 from rigid import G, fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore, Task, run_tasks, task_key
@@ -26,10 +29,13 @@ from validation.studies import FEM_VALIDATION, RESULTS
 from validation.studies.fem_validation_status import replayed, run_settings
 
 
-def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None) -> list[dict]:
+def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None,
+                   **tearing) -> list[dict]:
     """Every finished search's highest surviving run below its answer: the search's record,
-    pressure, SA [m/s²], the trimmed run's result and the run's keyword arguments."""
-    settings = run_settings((limit_state,), rim_thickness_mm)
+    pressure, SA [m/s²], the trimmed run's result and the run's keyword arguments;
+    ``tearing``: the run's ``fracture``, ``edge_radius_mm`` and ``rim_punch``
+    (:func:`validation.studies.fem_validation_status.run_settings`)."""
+    settings = run_settings((limit_state,), rim_thickness_mm, **tearing)
     searches, owners = replayed(out, settings, motions)
     found = searches.results()
     rows = []
@@ -51,14 +57,27 @@ def main() -> None:
                    help="the validation run's folder (its results.sqlite)")
     p.add_argument("--limit-state", default="hinge")
     p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
+    p.add_argument("--fem-fracture", choices=sorted(FRACTURE_SETS),
+                   help="the run's --fem-fracture")
+    p.add_argument("--fem-edge-radius", type=float, default=0.0,
+                   help="the run's --fem-edge-radius [mm]")
+    p.add_argument("--rim-punch", choices=("face", "slider"), default="face",
+                   help="the run's --rim-punch")
     p.add_argument("--cases", type=int, default=6)
     p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--name", default="fem_trimming_check",
+                   help="the store's folder and the table's name under docs/results")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
-    rows = surviving_runs(args.out, args.limit_state, motions, args.rim_thickness)
+    rows = surviving_runs(args.out, args.limit_state, motions, args.rim_thickness,
+                          fracture=args.fem_fracture, edge_radius_mm=args.fem_edge_radius,
+                          rim_punch=args.rim_punch)
     for r in rows:
         m = r["record"]
         r["cut_s"] = (m.npts - 1) * m.dt + r["kwargs"]["free"] - r["trimmed"]["end"]
+    if not rows:
+        raise SystemExit(f"no finished FE search with a surviving run in {args.out} under "
+                         "these settings (they must be the validation run's)")
     rows = sorted(rows, key=lambda r: -r["cut_s"])[:args.cases]
     tasks = []
     for r in rows:
@@ -66,7 +85,7 @@ def main() -> None:
         key = task_key("fem-run", r["models"], runner=None, **kwargs)
         r["key"] = key
         tasks.append(Task(key, "fem-run", fem_run, kwargs))
-    folder = RESULTS / "fem_trimming_check"
+    folder = RESULTS / args.name
     folder.mkdir(parents=True, exist_ok=True)
     with ResultStore(folder / "results.sqlite") as store:
         results = run_tasks(tasks, store, workers=args.workers, description="untrimmed FE runs",
@@ -85,7 +104,7 @@ def main() -> None:
             "untrimmed_max_rim_force_mn": full["max_rim_force"] / 1e6,
             "trimmed_cpu_s": trimmed["cpu_seconds"], "untrimmed_cpu_s": full["cpu_seconds"],
         })
-    path = RESULTS / "fem_trimming_check.csv"
+    path = RESULTS / f"{args.name}.csv"
     write_csv(table, path)
     same = sum(t["trimmed_failed"] == t["untrimmed_failed"] for t in table)
     print(f"the same verdict on {same} of {len(table)} surviving runs; {path}")
