@@ -791,6 +791,152 @@ def _step_level(p, q, v, vert, dmax, rim_contact, h_medium, h_coarse):
 
 
 @njit(cache=True)
+def _kinetic(p, v):
+    """Kinetic energy of the slider and the top plate [J] (Eq. R48)."""
+    ms, js, mt = p[P_MS], p[P_JS], p[P_M]
+    return 0.5 * (ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2 + mt * (v[3] ** 2 + v[4] ** 2))
+
+
+@njit(cache=True)
+def _gravity(p, q, zs0, zt0):
+    """Gravity's potential energy [J] from the start (the gravity terms of Eq. R49)."""
+    ms, mt, g = p[P_MS], p[P_M], p[P_G]
+    return ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0)
+
+
+@njit(cache=True)
+def _record(hist, n, p, q, v, zs0, zt0, e_pot, shear, rimf, rim_set, e_in, e_fric, e_imp,
+            e_plas):
+    """Write history row ``n`` (the channels H_*) and return the kinetic energy [J]."""
+    e_kin = _kinetic(p, v)
+    hist[n, H_XT] = q[3]
+    hist[n, H_ZT] = q[4] - zt0
+    hist[n, H_XS] = q[0]
+    hist[n, H_ZS] = q[1] - zs0
+    hist[n, H_TH] = q[2]
+    hist[n, H_VT] = v[3]
+    hist[n, H_SHEAR] = shear
+    hist[n, H_RIMF] = rimf[0] + rimf[1] + rimf[2] + rimf[3]
+    hist[n, H_EIN] = e_in
+    hist[n, H_EKIN] = e_kin
+    hist[n, H_EPOT] = e_pot
+    hist[n, H_EFRIC] = e_fric
+    hist[n, H_EIMP] = e_imp
+    hist[n, H_EPLAS] = e_plas
+    hist[n, H_SET] = max(max(rim_set[0], rim_set[1]), max(rim_set[2], rim_set[3]))
+    return e_kin
+
+
+@njit(cache=True)
+def _track_impacts(p, t, v, rimf, in_contact, last_contact, open_event, events, n_events,
+                   max_rimf):
+    """Rim impact events after a step ending at ``t`` [s]: a contact that begins more than
+    P_MERGE after the rim's last one opens an event (Eq. R52, its velocity the top plate's,
+    Eq. R53), a continuing one raises its peak force and duration. Return the number of
+    events, whether any rim is touched, and the largest rim force so far [N]."""
+    rim_contact = False
+    for r in range(N_RIMS):
+        f = rimf[r]
+        if f > 0.0:
+            rim_contact = True
+            if not in_contact[r]:
+                in_contact[r] = True
+                if t - last_contact[r] > p[P_MERGE] and n_events < events.shape[0]:
+                    events[n_events, 0] = t
+                    events[n_events, 1] = r
+                    events[n_events, 2] = v[3]
+                    events[n_events, 3] = 0.0
+                    events[n_events, 4] = 0.0
+                    open_event[r] = n_events
+                    n_events += 1
+            e = open_event[r]
+            if e >= 0:
+                events[e, 3] = max(events[e, 3], f)
+                events[e, 4] = t - events[e, 0]
+            last_contact[r] = t
+            max_rimf = max(max_rimf, f)
+        else:
+            in_contact[r] = False
+    return n_events, rim_contact, max_rimf
+
+
+@njit(cache=True)
+def _numerical_failure(p, q, v, dmax, hs):
+    """The code of a numerical failure after a step of ``hs`` [s] (docs/theory/rigid-body.md,
+    "Failure"): a coordinate not finite, a penetration past P_DMAX, a jump of a quarter of
+    it in one step; 0 if none."""
+    for i in range(5):
+        if not math.isfinite(q[i]) or not math.isfinite(v[i]):
+            return NUM_NAN
+    if dmax > p[P_DMAX]:
+        return NUM_PENETRATION
+    if _step_jump(p, v, hs) > 0.25 * p[P_DMAX]:
+        return NUM_JUMP
+    return 0
+
+
+@njit(cache=True)
+def _yielding_limit_states(p, q, vert, rim_set, law, t, t_hinge, t_rupture, t_lost, lost):
+    """The yielding rims' limit states reached by time ``t`` [s] (Eqs. R62–R64): the first
+    hinge and rupture of a rim's plastic set, and the loss of containment (a torn rim off, or
+    the slider past a rim); return the updated (t_hinge, t_rupture, t_lost, lost)."""
+    most = max(max(rim_set[0], rim_set[1]), max(rim_set[2], rim_set[3]))
+    if t_hinge < 0.0 and most >= p[P_UP_HINGE]:
+        t_hinge = t
+    if t_rupture < 0.0 and most >= p[P_UP_RUPTURE]:
+        t_rupture = t
+    beyond = abs(q[2]) > 0.25 * math.pi  # a vertex past an unbent face, or tipped
+    for j in range(4):
+        beyond = beyond or abs(vert[j, 0] - (q[3] if j >= 2 else 0.0)) > p[P_RIN]
+    if t_lost < 0.0 and most >= p[P_UP_OFF]:  # a torn rim came off (Eq. R64)
+        lost, t_lost = FAIL_TORN_OFF, t
+    if t_lost < 0.0 and beyond:  # containment can only be lost then (Eq. R63)
+        lost = _containment_yielding(p, q, vert, rim_set, law)
+        if lost != 0:
+            t_lost = t
+    return t_hinge, t_rupture, t_lost, lost
+
+
+@njit(cache=True)
+def _fine_steps(level, medium, coarse, room):
+    """Fine steps in the next step at step level ``level`` (0 near a rim, 1 medium, 2 coarse:
+    :func:`_step_level`), no more than ``room`` (the fine steps left to the next input
+    sample)."""
+    if level == 2 and coarse <= room:
+        return coarse
+    if level >= 1 and medium <= room:
+        return medium
+    return 1
+
+
+@njit(cache=True)
+def _ground_at(ag_in, n_sub, k):
+    """Ground acceleration [m/s²] at fine step ``k``: linear between the input's samples
+    (every ``n_sub`` fine steps), zero after its end."""
+    k_in = k // n_sub
+    frac = (k % n_sub) / n_sub
+    if k_in < ag_in.shape[0] - 1:
+        return ag_in[k_in] + frac * (ag_in[k_in + 1] - ag_in[k_in])
+    if k_in == ag_in.shape[0] - 1 and frac == 0.0:
+        return ag_in[k_in]
+    return 0.0
+
+
+@njit(cache=True)
+def _yielding_failure(criterion, t_hinge, t_rupture, t_lost, lost):
+    """The failure code of yielding rims under ``criterion`` (Eq. R62): the loss of
+    containment whatever the criterion, else the hinge or the rupture it asks for; 0 if
+    none yet."""
+    if t_lost >= 0.0:
+        return lost
+    if criterion == CRIT_HINGE and t_hinge >= 0.0:
+        return FAIL_HINGE
+    if criterion == CRIT_RUPTURE and t_rupture >= 0.0:
+        return FAIL_RUPTURE
+    return 0
+
+
+@njit(cache=True)
 def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, stop_at_failure,
               hist, events, summary, law):
     """Advance the model over ``n_steps`` fine steps of size h.
@@ -831,8 +977,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     e_plas = 0.0
     n_in = ag_in.shape[0]
     input_steps = (n_in - 1) * n_sub
-    max_events = events.shape[0]
-    ms, js, mt, g = p[P_MS], p[P_JS], p[P_M], p[P_G]
+    mt, g = p[P_M], p[P_G]
 
     dmax = forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert, False, rim_set, law, buf, count)
     e_el0 = acc[A_EEL]
@@ -858,25 +1003,10 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     while True:
         t = step * h
         if step % n_sub == 0 and n_rec < hist.shape[0]:
-            e_kin = 0.5 * (ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2
-                           + mt * (v[3] ** 2 + v[4] ** 2))
-            e_grav = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0)
+            e_grav = _gravity(p, q, zs0, zt0)
             e_pot = e_grav + acc[A_EEL] - e_el0
-            hist[n_rec, H_XT] = q[3]
-            hist[n_rec, H_ZT] = q[4] - zt0
-            hist[n_rec, H_XS] = q[0]
-            hist[n_rec, H_ZS] = q[1] - zs0
-            hist[n_rec, H_TH] = q[2]
-            hist[n_rec, H_VT] = v[3]
-            hist[n_rec, H_SHEAR] = shear
-            hist[n_rec, H_RIMF] = rimf[0] + rimf[1] + rimf[2] + rimf[3]
-            hist[n_rec, H_EIN] = e_in
-            hist[n_rec, H_EKIN] = e_kin
-            hist[n_rec, H_EPOT] = e_pot
-            hist[n_rec, H_EFRIC] = e_fric
-            hist[n_rec, H_EIMP] = e_imp
-            hist[n_rec, H_EPLAS] = e_plas
-            hist[n_rec, H_SET] = max(max(rim_set[0], rim_set[1]), max(rim_set[2], rim_set[3]))
+            e_kin = _record(hist, n_rec, p, q, v, zs0, zt0, e_pot, shear, rimf, rim_set, e_in,
+                            e_fric, e_imp, e_plas)
             n_rec += 1
             # an explicit scheme past its stability limit creates energy: report, not hide
             # (Eq. R46)
@@ -888,32 +1018,20 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
                 break
         if step >= n_steps or status != STATUS_OK:
             break
-        m = 1
-        room = min(n_sub - step % n_sub, n_steps - step)  # never across an input sample
-        if level == 2 and coarse <= room:
-            m = coarse
-        elif level >= 1 and medium <= room:
-            m = medium
+        m = _fine_steps(level, medium, coarse, min(n_sub - step % n_sub, n_steps - step))
         implicit = m == coarse and coarse > medium
         hs = m * h
         if not implicit:  # plain velocity Verlet: drop a coarse step's stiffness
             acc[A_KSUM] = 0.0
         elif acc[A_KSUM] == 0.0:  # first coarse step: its first kick needs the stiffness too
             forces(p, q, v, Z, 0.0, gen, acc, rimf, sep, vert, True, rim_set, law, buf, count)
-        # ground acceleration at the end of the step, linear between input samples
-        k_in = (step + m) // n_sub
-        frac = ((step + m) % n_sub) / n_sub
-        ag_new = 0.0
-        if k_in < n_in - 1:
-            ag_new = ag_in[k_in] + frac * (ag_in[k_in + 1] - ag_in[k_in])
-        elif k_in == n_in - 1 and frac == 0.0:
-            ag_new = ag_in[k_in]
+        ag_new = _ground_at(ag_in, n_sub, step + m)  # at the end of the step
         # kick – drift (Eq. R30)
         e_imp += _kick(p, v, gen, ag_old, acc, 0.5 * hs)
         for i in range(5):
             q[i] += hs * v[i]
         # input work of the inertial loads over the step, half-step velocities (Eq. R47)
-        e_in -= 0.5 * (ag_old + ag_new) * (ms * v[0] + mt * v[3]) * hs
+        e_in -= 0.5 * (ag_old + ag_new) * (p[P_MS] * v[0] + mt * v[3]) * hs
         dmax = forces(p, q, v, Z, hs, gen, acc, rimf, sep, vert, implicit, rim_set, law, buf,
                       count)
         e_fric += acc[A_PFRIC] * hs
@@ -931,79 +1049,32 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
         for k in range(2):
             if sep[k] < 1e8:  # both vertices over the plate
                 max_uplift = max(max_uplift, sep[k])
-        rim_contact = False
-        for r in range(N_RIMS):
-            f = rimf[r]
-            if f > 0.0:
-                rim_contact = True
-                if not in_contact[r]:
-                    in_contact[r] = True
-                    # a new impact (Eq. R52); its velocity is the top plate's (Eq. R53)
-                    if t - last_contact[r] > p[P_MERGE] and n_events < max_events:
-                        events[n_events, 0] = t
-                        events[n_events, 1] = r
-                        events[n_events, 2] = v[3]
-                        events[n_events, 3] = 0.0
-                        events[n_events, 4] = 0.0
-                        open_event[r] = n_events
-                        n_events += 1
-                e = open_event[r]
-                if e >= 0:
-                    events[e, 3] = max(events[e, 3], f)
-                    events[e, 4] = t - events[e, 0]
-                last_contact[r] = t
-                max_rimf = max(max_rimf, f)
-            else:
-                in_contact[r] = False
+        n_events, rim_contact, max_rimf = _track_impacts(
+            p, t, v, rimf, in_contact, last_contact, open_event, events, n_events, max_rimf)
         level = _step_level(p, q, v, vert, dmax, rim_contact, medium * h, coarse * h)
         # numerical failure (docs/theory/rigid-body.md, "Failure") and physical failure
         # (Eqs. R42–R45)
-        bad = False
-        for i in range(5):
-            if not math.isfinite(q[i]) or not math.isfinite(v[i]):
-                bad = True
-        if bad:
-            status, fail_code, fail_time = STATUS_NUMERICAL, NUM_NAN, t
-        elif dmax > p[P_DMAX]:
-            status, fail_code, fail_time = STATUS_NUMERICAL, NUM_PENETRATION, t
-        elif _step_jump(p, v, hs) > 0.25 * p[P_DMAX]:
-            status, fail_code, fail_time = STATUS_NUMERICAL, NUM_JUMP, t
+        numerical = _numerical_failure(p, q, v, dmax, hs)
+        if numerical != 0:
+            status, fail_code, fail_time = STATUS_NUMERICAL, numerical, t
         elif fail_code == 0 and not yielding:
             code = _failure(p, q, vert)
             if code != 0:
                 fail_code, fail_time = code, t
                 if stop_at_failure:
                     status = STATUS_FAILED
-        elif yielding:  # the limit states, recorded as far as the run goes (Eqs. R62–R63)
-            most = max(max(rim_set[0], rim_set[1]), max(rim_set[2], rim_set[3]))
-            if t_hinge < 0.0 and most >= p[P_UP_HINGE]:
-                t_hinge = t
-            if t_rupture < 0.0 and most >= p[P_UP_RUPTURE]:
-                t_rupture = t
-            beyond = abs(q[2]) > 0.25 * math.pi  # a vertex past an unbent face, or tipped
-            for j in range(4):
-                beyond = beyond or abs(vert[j, 0] - (q[3] if j >= 2 else 0.0)) > p[P_RIN]
-            if t_lost < 0.0 and most >= p[P_UP_OFF]:  # a torn rim came off (Eq. R64)
-                lost, t_lost = FAIL_TORN_OFF, t
-            if t_lost < 0.0 and beyond:  # containment can only be lost then (Eq. R63)
-                lost = _containment_yielding(p, q, vert, rim_set, law)
-                if lost != 0:
-                    t_lost = t
+        elif yielding:  # the limit states, recorded as far as the run goes
+            t_hinge, t_rupture, t_lost, lost = _yielding_limit_states(
+                p, q, vert, rim_set, law, t, t_hinge, t_rupture, t_lost, lost)
             if fail_code == 0:
-                code = 0
-                if t_lost >= 0.0:  # failure whatever the criterion
-                    code = lost
-                elif criterion == CRIT_HINGE and t_hinge >= 0.0:
-                    code = FAIL_HINGE
-                elif criterion == CRIT_RUPTURE and t_rupture >= 0.0:
-                    code = FAIL_RUPTURE
+                code = _yielding_failure(criterion, t_hinge, t_rupture, t_lost, lost)
                 if code != 0:
                     fail_code, fail_time = code, t
                     if stop_at_failure:
                         status = STATUS_FAILED
     if status == STATUS_OK and fail_code != 0:
         status = STATUS_FAILED
-    e_kin = 0.5 * (ms * (v[0] ** 2 + v[1] ** 2) + js * v[2] ** 2 + mt * (v[3] ** 2 + v[4] ** 2))
+    e_kin = _kinetic(p, v)
     summary[S_STATUS] = status
     summary[S_FAIL_TIME] = fail_time
     summary[S_FAIL_CODE] = fail_code
@@ -1014,7 +1085,7 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
     summary[S_MAX_RIMF] = max_rimf
     summary[S_EIN] = e_in
     summary[S_EKIN] = e_kin
-    summary[S_EPOT] = ms * g * (q[1] - zs0) + mt * g * (q[4] - zt0) + acc[A_EEL] - e_el0
+    summary[S_EPOT] = _gravity(p, q, zs0, zt0) + acc[A_EEL] - e_el0
     summary[S_EFRIC] = e_fric
     summary[S_EIMP] = e_imp
     summary[S_N_REC] = n_rec
