@@ -37,6 +37,9 @@ REPLAYABLE = {
                            "--stop", "3"],
     "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
                                 "--fem-edge-radius", "20"],
+    **{f"fem-validation-fracture-sensitivity/{name}": [
+        "--records", "8", "--pressure", "60", "--limit-state", "containment",
+        "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
 }
 
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
