@@ -51,6 +51,26 @@ def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None,
     return rows
 
 
+def _untrimmed(args, motions) -> tuple[list[dict], list[Task]]:
+    """The ``args.cases`` surviving runs cut shortest, and their untrimmed runs as tasks."""
+    rows = surviving_runs(args.out, args.limit_state, motions, args.rim_thickness,
+                          fracture=args.fem_fracture, edge_radius_mm=args.fem_edge_radius,
+                          rim_punch=args.rim_punch)
+    if not rows:
+        raise SystemExit(f"no finished FE search with a surviving run in {args.out} under "
+                         "these settings (they must be the validation run's)")
+    for r in rows:
+        m = r["record"]
+        r["cut_s"] = (m.npts - 1) * m.dt + r["kwargs"]["free"] - r["trimmed"]["end"]
+    rows = sorted(rows, key=lambda r: -r["cut_s"])[:args.cases]
+    tasks = []
+    for r in rows:
+        kwargs = {**r["kwargs"], "trim": "none"}
+        r["key"] = task_key("fem-run", r["models"], runner=None, **kwargs)
+        tasks.append(Task(r["key"], "fem-run", fem_run, kwargs))
+    return rows, tasks
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--out", type=Path, default=FEM_VALIDATION,
@@ -67,26 +87,25 @@ def main() -> None:
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--name", default="fem_trimming_check",
                    help="the store's folder and the table's name under docs/results")
+    p.add_argument("--rekey-from", metavar="REVISION",
+                   help="first carry the untrimmed runs that REVISION's code stored over to "
+                   "today's keys, once the shortest two rerun equal (rigid.tasks.rekey)")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
-    rows = surviving_runs(args.out, args.limit_state, motions, args.rim_thickness,
-                          fracture=args.fem_fracture, edge_radius_mm=args.fem_edge_radius,
-                          rim_punch=args.rim_punch)
-    for r in rows:
-        m = r["record"]
-        r["cut_s"] = (m.npts - 1) * m.dt + r["kwargs"]["free"] - r["trimmed"]["end"]
-    if not rows:
-        raise SystemExit(f"no finished FE search with a surviving run in {args.out} under "
-                         "these settings (they must be the validation run's)")
-    rows = sorted(rows, key=lambda r: -r["cut_s"])[:args.cases]
-    tasks = []
-    for r in rows:
-        kwargs = {**r["kwargs"], "trim": "none"}
-        key = task_key("fem-run", r["models"], runner=None, **kwargs)
-        r["key"] = key
-        tasks.append(Task(key, "fem-run", fem_run, kwargs))
     folder = RESULTS / args.name
     folder.mkdir(parents=True, exist_ok=True)
+    if args.rekey_from:
+        from rigid.tasks.rekey import rekey
+
+        def replay(seen):
+            run_tasks(_untrimmed(args, motions)[1], store, progress=False, replay=True,
+                      seen=seen)
+
+        with ResultStore(folder / "results.sqlite") as store:
+            carried = rekey(store, replay, args.rekey_from)
+        print(f"--rekey-from {args.rekey_from}: carried over {dict(carried) or 'nothing'} "
+              f"(largest relative change of a rerun's float {carried.largest_change:.1e})")
+    rows, tasks = _untrimmed(args, motions)
     with ResultStore(folder / "results.sqlite") as store:
         results = run_tasks(tasks, store, workers=args.workers, description="untrimmed FE runs",
                             log=folder / "progress.log")
