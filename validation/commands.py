@@ -430,16 +430,7 @@ def _rekey(revision: str, motions, settings, out: Path) -> None:
             carried = rekey(store, replay, revision)
     except RekeyError as exc:
         raise CommandError(f"--rekey-from {revision}: {exc}") from None
-    lacking = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.missing.items()))
-    if not carried:
-        print(f"--rekey-from {revision}: nothing to carry over"
-              + (f" ({lacking} not stored)" if lacking else ""))
-        return
-    what = ", ".join(f"{kind} {n}" for kind, n in sorted(carried.items()))
-    print(f"results carried over from the code of {revision}: {what} (the shortest two of "
-          "each kind rerun with today's code: equal, largest relative change of a float "
-          f"{carried.largest_change:.1e})"
-          + (f"; not stored, to be computed by a run: {lacking}" if lacking else ""))
+    print(f"--rekey-from {revision}: {carried.describe()}")
 
 
 def _ring_depth(bearing, limit_states) -> float:

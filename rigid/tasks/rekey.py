@@ -61,6 +61,18 @@ class Rekeyed(dict):
         #: the largest relative difference of a rerun's float from the stored one
         self.largest_change = largest_change
 
+    def describe(self) -> str:
+        """One line for the user: what was carried over by kind, the largest change of a
+        rerun's float, and what the store lacked (for a run to compute)."""
+        what = ", ".join(f"{kind} {n}" for kind, n in sorted(self.items()))
+        line = (f"carried over {what} (the shortest two of each kind rerun with today's code: "
+                f"equal, largest relative change of a float {self.largest_change:.1e})"
+                if self else "nothing to carry over")
+        if self.missing:
+            lacking = ", ".join(f"{kind} {n}" for kind, n in sorted(self.missing.items()))
+            line += f"; not stored, to be computed by a run: {lacking}"
+        return line
+
 
 class RekeyError(RuntimeError):
     """A rerun with today's code differs from the stored result, or the revision is unknown:

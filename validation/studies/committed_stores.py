@@ -1,11 +1,12 @@
 """The committed result stores, the commands that made them, and their carrying over.
 
 Every stored result is keyed by the code of the models that computed it
-(:data:`rigid.tasks.cache.MODEL_CODE`), so any edit below ``fem/`` or ``meshes/`` (a comment
-included) makes the stored FE runs and rim laws unreachable. Where the edit leaves the
-physics alone, each store is carried over to today's keys by the command that made it with
-``--rekey-from REVISION`` (:func:`rigid.tasks.rekey.rekey`: the two shortest tasks of each
-kind are rerun and must come out identical). This module is the one list of those stores:
+(:data:`rigid.tasks.cache.MODEL_CODE`), so any edit of a model's files (below ``fem/`` or
+``meshes/``, the rigid kernel; a comment included) makes the stored results unreachable.
+Where the edit leaves the physics alone, each store is carried over to today's keys by the
+command that made it with ``--rekey-from REVISION`` (:func:`rigid.tasks.rekey.rekey`: the two
+shortest tasks of each kind are rerun and must come out equal, floats to
+:data:`rigid.tasks.rekey.RTOL`). This module is the one list of those stores:
 ``tests/test_stores.py`` replays the finished ones, and::
 
     python -m validation.studies.committed_stores --rekey-from REVISION [--only FOLDER ...]

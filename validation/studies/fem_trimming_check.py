@@ -103,8 +103,7 @@ def main() -> None:
 
         with ResultStore(folder / "results.sqlite") as store:
             carried = rekey(store, replay, args.rekey_from)
-        print(f"--rekey-from {args.rekey_from}: carried over {dict(carried) or 'nothing'} "
-              f"(largest relative change of a rerun's float {carried.largest_change:.1e})")
+        print(f"--rekey-from {args.rekey_from}: {carried.describe()}")
     rows, tasks = _untrimmed(args, motions)
     with ResultStore(folder / "results.sqlite") as store:
         results = run_tasks(tasks, store, workers=args.workers, description="untrimmed FE runs",

@@ -58,15 +58,14 @@ def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
     (pressure, record index), one per record in the order the searches were added. The
     yielding rims' law is the store's (planted in the cache: a law pushed on this machine
     differs in its last digits, and the rigid records key on its numbers)."""
-    if settings.ladder_states():
-        with ResultStore(out / "results.sqlite") as store:
+    owners = []
+    with ResultStore(out / "results.sqlite") as store:
+        if settings.ladder_states():
             keep_rim_laws(store, settings.bearing_at(settings.pressures[0]),
                           [settings.rim_model], replay=True, fracture=settings.rim_fracture,
                           edge_radius=(settings.rim_edge_radius
                                        if settings.rim_punch == "slider" else None))
-    tasks, index = rigid_tasks(motions, settings, out)
-    owners = []
-    with ResultStore(out / "results.sqlite") as store:
+        tasks, index = rigid_tasks(motions, settings, out)
         searches = FESearches(settings.fem, step=settings.step, start=settings.step,
                               stop=settings.stop, stored=store.get)
         for task in tasks:

@@ -226,10 +226,7 @@ def _rekey(args) -> None:
 
     with ResultStore(args.out / "store" / "results.sqlite") as store:
         carried = rekey(store, replay, args.rekey_from)
-    print(f"--rekey-from {args.rekey_from}: carried over "
-          f"{', '.join(f'{k} {n}' for k, n in sorted(carried.items())) or 'nothing'} "
-          f"(largest relative change of a rerun's float {carried.largest_change:.1e})"
-          + (f"; not stored: {dict(carried.missing)}" if carried.missing else ""))
+    print(f"--rekey-from {args.rekey_from}: {carried.describe()}")
 
 
 def main(argv=None) -> None:
