@@ -127,6 +127,19 @@ class Energy:
         return out
 
 
+@dataclass
+class Released:
+    """Energy per unit depth [J/m] released by torn elements as they let go (Eq. F69): their
+    strain energy and the penalty energy of the contacts they carried."""
+
+    strain: float = 0.0
+    penalty: float = 0.0
+
+    @property
+    def total(self) -> float:
+        return self.strain + self.penalty
+
+
 class StepFailure(RuntimeError):
     """Newton did not converge even at the smallest step."""
 
@@ -343,7 +356,7 @@ class Integrator:
         ekin = residual = 0.0
         strain0 = self.system.strain_energy(ev)
         cont0 = ev.contact.normal_energy
-        self.released = [0.0, 0.0]  # strain and penalty energy of torn elements [J/m]
+        self.released = Released()
         times = [t_start]
         self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
         stopped = False
@@ -388,7 +401,7 @@ class Integrator:
             # residual = input − kinetic − (strain + plastic) − contact − friction (Eqs.
             # F29–F31)
             residual_new = (w_ext_new - ekin_new - w_mat_new - (con.normal_energy - cont0)
-                            - w_fric_new - self.released[1])
+                            - w_fric_new - self.released.penalty)
             if abs(residual_new - residual) > ctl.energy_tol and h > ctl.impact_step / 8:
                 self.rejected += 1
                 h, grew = 0.5 * h, False
@@ -433,8 +446,8 @@ class Integrator:
         strain, penalty = sysm.strain_energy(ev), ev.contact.normal_energy
         sysm.erode(self.fracture.retained)
         ev = sysm.evaluate(self.red.expand(d), state)
-        self.released[0] += strain - sysm.strain_energy(ev)
-        self.released[1] += penalty - ev.contact.normal_energy
+        self.released.strain += strain - sysm.strain_energy(ev)
+        self.released.penalty += penalty - ev.contact.normal_energy
         self.solver.thaw()  # the frozen tangents of Eq. F35a may have let go
         return ev, self.red.reduce(ev.internal_force), self.red.reduce(ev.material_force)
 
@@ -444,7 +457,7 @@ class Integrator:
         energy.input.append(w_ext)
         energy.kinetic.append(ekin)
         energy.strain.append(strain)
-        energy.plastic.append(w_mat - strain - self.released[0])
+        energy.plastic.append(w_mat - strain - self.released.strain)
         energy.contact.append(contact)
         energy.friction.append(w_fric)
-        energy.fracture.append(sum(self.released))
+        energy.fracture.append(self.released.total)

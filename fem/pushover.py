@@ -149,7 +149,7 @@ class PushRecord:
     torn elements let go over ``erosion_steps`` increments (Eqs. F66–F68). Shared by the face
     push (:func:`rim_pushover`) and the slider's push (:func:`fem.slider_push.rim_slider_push`).
 
-    Call :meth:`held` before each increment (the dofs no element holds any more), then
+    Call :meth:`loose` before each increment (the dofs no element holds any more), then
     :meth:`add` with each accepted state (True once the torn rim is off), and
     :meth:`pushover` at the end.
     """

@@ -937,6 +937,65 @@ def _yielding_failure(criterion, t_hinge, t_rupture, t_lost, lost):
 
 
 @njit(cache=True)
+def _check_failure(p, q, v, vert, dmax, hs, t, yielding, criterion, stop_at_failure, rim_set,
+                   law, status, fail_code, fail_time, t_hinge, t_rupture, t_lost, lost):
+    """After a step ending at t [s]: numerical failure (docs/theory/rigid-body.md, "Failure"),
+    then physical failure (Eqs. R42–R45) or, with yielding rims, the limit states recorded as
+    far as the run goes and the chosen one's failure. Returns the updated (status, fail_code,
+    fail_time, t_hinge, t_rupture, t_lost, lost)."""
+    numerical = _numerical_failure(p, q, v, dmax, hs)
+    if numerical != 0:
+        status, fail_code, fail_time = STATUS_NUMERICAL, numerical, t
+    elif fail_code == 0 and not yielding:
+        code = _failure(p, q, vert)
+        if code != 0:
+            fail_code, fail_time = code, t
+            if stop_at_failure:
+                status = STATUS_FAILED
+    elif yielding:
+        t_hinge, t_rupture, t_lost, lost = _yielding_limit_states(
+            p, q, vert, rim_set, law, t, t_hinge, t_rupture, t_lost, lost)
+        if fail_code == 0:
+            code = _yielding_failure(criterion, t_hinge, t_rupture, t_lost, lost)
+            if code != 0:
+                fail_code, fail_time = code, t
+                if stop_at_failure:
+                    status = STATUS_FAILED
+    return status, fail_code, fail_time, t_hinge, t_rupture, t_lost, lost
+
+
+@njit(cache=True)
+def _summarize(summary, status, fail_time, fail_code, n_events, max_uplift, max_rot, max_pen,
+               max_rimf, e_in, e_kin, e_pot, e_fric, e_imp, e_plas, n_rec, step, taken,
+               t_hinge, t_rupture, t_lost, rim_set):
+    """Write a run's end state into ``summary`` (N_SUMMARY, slots S_*): status and failure,
+    impacts, extremes, the energies of Eqs. R46–R51 [J], counts, the limit-state times [s] and
+    the rims' plastic sets [m]."""
+    summary[S_STATUS] = status
+    summary[S_FAIL_TIME] = fail_time
+    summary[S_FAIL_CODE] = fail_code
+    summary[S_N_EVENTS] = n_events
+    summary[S_MAX_UPLIFT] = max_uplift
+    summary[S_MAX_ROT] = max_rot
+    summary[S_MAX_PEN] = max_pen
+    summary[S_MAX_RIMF] = max_rimf
+    summary[S_EIN] = e_in
+    summary[S_EKIN] = e_kin
+    summary[S_EPOT] = e_pot
+    summary[S_EFRIC] = e_fric
+    summary[S_EIMP] = e_imp
+    summary[S_N_REC] = n_rec
+    summary[S_STEPS] = step
+    summary[S_TAKEN] = taken
+    summary[S_T_HINGE] = t_hinge
+    summary[S_T_RUPTURE] = t_rupture
+    summary[S_T_CONTAINMENT] = t_lost
+    summary[S_EPLAS] = e_plas
+    for r in range(N_RIMS):
+        summary[S_SET + r] = rim_set[r]
+
+
+@njit(cache=True)
 def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, stop_at_failure,
               hist, events, summary, law):
     """Advance the model over ``n_steps`` fine steps of size h.
@@ -1052,48 +1111,11 @@ def integrate(p, q0, ag_in, n_sub, h, n_steps, medium, coarse, quiet_energy, sto
         n_events, rim_contact, max_rimf = _track_impacts(
             p, t, v, rimf, in_contact, last_contact, open_event, events, n_events, max_rimf)
         level = _step_level(p, q, v, vert, dmax, rim_contact, medium * h, coarse * h)
-        # numerical failure (docs/theory/rigid-body.md, "Failure") and physical failure
-        # (Eqs. R42–R45)
-        numerical = _numerical_failure(p, q, v, dmax, hs)
-        if numerical != 0:
-            status, fail_code, fail_time = STATUS_NUMERICAL, numerical, t
-        elif fail_code == 0 and not yielding:
-            code = _failure(p, q, vert)
-            if code != 0:
-                fail_code, fail_time = code, t
-                if stop_at_failure:
-                    status = STATUS_FAILED
-        elif yielding:  # the limit states, recorded as far as the run goes
-            t_hinge, t_rupture, t_lost, lost = _yielding_limit_states(
-                p, q, vert, rim_set, law, t, t_hinge, t_rupture, t_lost, lost)
-            if fail_code == 0:
-                code = _yielding_failure(criterion, t_hinge, t_rupture, t_lost, lost)
-                if code != 0:
-                    fail_code, fail_time = code, t
-                    if stop_at_failure:
-                        status = STATUS_FAILED
+        status, fail_code, fail_time, t_hinge, t_rupture, t_lost, lost = _check_failure(
+            p, q, v, vert, dmax, hs, t, yielding, criterion, stop_at_failure, rim_set, law,
+            status, fail_code, fail_time, t_hinge, t_rupture, t_lost, lost)
     if status == STATUS_OK and fail_code != 0:
         status = STATUS_FAILED
-    e_kin = _kinetic(p, v)
-    summary[S_STATUS] = status
-    summary[S_FAIL_TIME] = fail_time
-    summary[S_FAIL_CODE] = fail_code
-    summary[S_N_EVENTS] = n_events
-    summary[S_MAX_UPLIFT] = max_uplift
-    summary[S_MAX_ROT] = max_rot
-    summary[S_MAX_PEN] = max_pen
-    summary[S_MAX_RIMF] = max_rimf
-    summary[S_EIN] = e_in
-    summary[S_EKIN] = e_kin
-    summary[S_EPOT] = _gravity(p, q, zs0, zt0) + acc[A_EEL] - e_el0
-    summary[S_EFRIC] = e_fric
-    summary[S_EIMP] = e_imp
-    summary[S_N_REC] = n_rec
-    summary[S_STEPS] = step
-    summary[S_TAKEN] = taken
-    summary[S_T_HINGE] = t_hinge
-    summary[S_T_RUPTURE] = t_rupture
-    summary[S_T_CONTAINMENT] = t_lost
-    summary[S_EPLAS] = e_plas
-    for r in range(N_RIMS):
-        summary[S_SET + r] = rim_set[r]
+    _summarize(summary, status, fail_time, fail_code, n_events, max_uplift, max_rot, max_pen,
+               max_rimf, e_in, _kinetic(p, v), _gravity(p, q, zs0, zt0) + acc[A_EEL] - e_el0,
+               e_fric, e_imp, e_plas, n_rec, step, taken, t_hinge, t_rupture, t_lost, rim_set)
