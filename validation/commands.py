@@ -343,15 +343,23 @@ def validate(args) -> int:
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
         ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
     if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
-        from .stored_rim_laws import keep_rim_laws
+        from rigid.tasks.rekey import RekeyError
 
+        from .stored_rim_laws import carry_rim_laws, keep_rim_laws
+
+        which = {"fracture": rim_fracture if "yielding" in args.rims else None,
+                 "edge_radius": slider_edges}
         try:
             with ResultStore(out / "results.sqlite") as store:
+                if args.rekey_from:
+                    carry_rim_laws(store, DFPBearing(**dict(bearing)), laws, args.rekey_from,
+                                   **which)
                 keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay,
-                              fracture=rim_fracture if "yielding" in args.rims else None,
-                              edge_radius=slider_edges)
+                              **which)
         except MissingResultsError as exc:
             raise CommandError(str(exc)) from None
+        except RekeyError as exc:
+            raise CommandError(f"--rekey-from {args.rekey_from}: {exc}") from None
     if args.rim_model == "ring" and fem is not None:
         fem = dataclasses.replace(fem, rim_depth=_ring_depth(bearing, fem.limit_states))
     settings = Settings(

@@ -208,16 +208,16 @@ def _groups(rows):
 def _rekey(args) -> None:
     """``--rekey-from``: :func:`rigid.tasks.rekey.rekey` of the study's store, replaying
     :func:`cases` with the arguments given, once the rims' laws are stored under today's
-    keys (pushed again where the store lacks them)."""
+    keys (carried over once today's push agrees, pushed where the store lacks them)."""
     from rigid.tasks.rekey import rekey
 
-    from ..stored_rim_laws import keep_rim_laws
+    from ..stored_rim_laws import carry_rim_laws, keep_rim_laws
 
     with ResultStore(args.out / "store" / "results.sqlite") as store:
         for t in args.thicknesses:
-            keep_rim_laws(store, DFPBearing(rim_thickness=t * 1e-3,
-                                            rim_height=args.rim_height * 1e-3),
-                          [args.rim_model])
+            bearing = DFPBearing(rim_thickness=t * 1e-3, rim_height=args.rim_height * 1e-3)
+            carry_rim_laws(store, bearing, [args.rim_model], args.rekey_from)
+            keep_rim_laws(store, bearing, [args.rim_model])
 
     def replay(seen):
         cases(args.thicknesses, args.pressures, args.out, rim_model=args.rim_model,
@@ -252,7 +252,12 @@ def main(argv=None) -> None:
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     if args.rekey_from:
-        _rekey(args)
+        from rigid.tasks.rekey import RekeyError
+
+        try:
+            _rekey(args)
+        except RekeyError as exc:
+            raise SystemExit(f"--rekey-from {args.rekey_from}: {exc}") from None
     rows = cases(args.thicknesses, args.pressures, args.out, rim_model=args.rim_model,
                  workers=args.workers, records=args.records,
                  rim_height=args.rim_height * 1e-3, replay=args.replay)
