@@ -97,6 +97,16 @@ def test_a_law_through_tearing_needs_the_plane_strain_push(tmp_path):
     assert not (out / "results.sqlite").exists()
 
 
+def test_keeping_the_stored_laws_needs_a_carrying_over(tmp_path):
+    """--keep-stored-laws without --rekey-from is refused before anything runs, in one
+    line naming both options."""
+    out = tmp_path / "o"
+    _one_line_error(dfp("validate", "--manifest", str(_pulse_manifest(tmp_path)),
+                        "--keep-stored-laws", "--no-fem", "--out", str(out)),
+                    "--keep-stored-laws", "--rekey-from")
+    assert not (out / "results.sqlite").exists()
+
+
 def test_bad_number_from_argparse(tmp_path):
     result = dfp("demo", "--period", "-1")
     assert result.returncode == 2 and "must be between 0.05 and 20 s" in result.stderr

@@ -185,7 +185,8 @@ def test_a_law_through_tearing_is_compared_up_to_its_first_tear():
 def test_rekey_carries_the_stored_law_once_todays_push_agrees(tmp_path, monkeypatch):
     """``--rekey-from``: the law stored under the keys of a revision's code moves to today's
     keys, its own numbers kept (the stored runs key on them), once today's push agrees with
-    it; a push that differs is refused and nothing moves."""
+    it; a push that differs is refused and nothing moves, unless the stored law is to be kept
+    (``--keep-stored-laws``)."""
     import contextlib
 
     import validation.stored_rim_laws as laws
@@ -215,9 +216,18 @@ def test_rekey_carries_the_stored_law_once_todays_push_agrees(tmp_path, monkeypa
             laws.carry_rim_laws(store, bearing, ["plane-strain"], "REV")
         assert now not in store
         monkeypatch.setattr(laws, "_push", lambda *args: _smooth_law(160, skip=[60]))
-        assert laws.carry_rim_laws(store, bearing, ["plane-strain"], "REV") == 1
+        assert laws.carry_rim_laws(store, bearing, ["plane-strain"], "REV") == [
+            "the plane-strain rim law carried over: today's push agrees"]
         assert store.get(now) == laws._to_json(stored)
-        assert laws.carry_rim_laws(store, bearing, ["plane-strain"], "REV") == 0
+        assert laws.carry_rim_laws(store, bearing, ["plane-strain"], "REV") == []
+    with ResultStore(tmp_path / "kept.sqlite") as store:  # kept on request, the difference said
+        store.put(then, "rim-law", laws._to_json(stored))
+        monkeypatch.setattr(laws, "_push", lambda *args: _smooth_law(160, strength=1.002))
+        assert laws.carry_rim_laws(store, bearing, ["plane-strain"], "REV",
+                                   keep_differing=True) == [
+            "the plane-strain rim law carried over, kept although today's push differs in "
+            "push_force, force"]
+        assert store.get(now) == laws._to_json(stored)
 
 
 def test_the_status_of_a_run_replays_with_the_stores_law(tmp_path, monkeypatch):

@@ -356,6 +356,10 @@ def _validate_parser(sub):
                    "over to today's keys, after rerunning the shortest two of each kind with "
                    "today's code and finding them equal, floats to 1e-6 (for a change of code "
                    "that leaves the physics alone); needs a git checkout")
+    p.add_argument("--keep-stored-laws", action="store_true",
+                   help="with --rekey-from: carry the store's rim laws over even where "
+                   "today's push differs (a push through tearing is not repeatable across "
+                   "machines); the differences are printed")
     p.set_defaults(func=validate)
 
 

@@ -334,6 +334,8 @@ def validate(args) -> int:
     if args.rim_model == "ring" and fem is not None and len(fem.limit_states) != 1:
         raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
                            "the limit state searched: give one --limit-state per run")
+    if args.keep_stored_laws and not args.rekey_from:
+        raise CommandError("--keep-stored-laws goes with --rekey-from")
     if args.rim_fracture and args.rim_model == "ring":
         raise CommandError("--rim-fracture: the law through tearing comes from the "
                            "plane-strain push; it cannot go with --rim-model ring")
@@ -352,8 +354,10 @@ def validate(args) -> int:
         try:
             with ResultStore(out / "results.sqlite") as store:
                 if args.rekey_from:
-                    carry_rim_laws(store, DFPBearing(**dict(bearing)), laws, args.rekey_from,
-                                   **which)
+                    for line in carry_rim_laws(store, DFPBearing(**dict(bearing)), laws,
+                                               args.rekey_from,
+                                               keep_differing=args.keep_stored_laws, **which):
+                        print(f"--rekey-from {args.rekey_from}: {line}")
                 keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay,
                               **which)
         except MissingResultsError as exc:

@@ -122,16 +122,25 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
 
 
 def carry_rim_laws(store: ResultStore, bearing: DFPBearing, models, revision: str, *,
-                   fracture: str | None = None, edge_radius: float | None = None) -> int:
+                   fracture: str | None = None, edge_radius: float | None = None,
+                   keep_differing: bool = False) -> list[str]:
     """``--rekey-from revision``: copy the laws that ``store`` holds under the keys of
     ``revision``'s code (the arguments as :func:`keep_rim_laws`') to today's keys, each once
-    a push with today's code agrees with it within :data:`LAW_RTOL`. The stored law is kept,
-    not today's: a law pushed on another machine differs in its last digits, and the stored
-    runs key on its numbers. Returns how many were carried over;
-    :class:`rigid.tasks.rekey.RekeyError` if a push differs (the physics changed)."""
+    a push with today's code agrees with it (:func:`law_differences`). The stored law is
+    kept, not today's: a law pushed on another machine differs in its last digits, and the
+    stored runs key on its numbers. ``keep_differing``: carry a law over even where today's
+    push differs (``--keep-stored-laws``: the run's remaining cases then use the law its
+    stored ones used).
+
+    Returns
+    -------
+    list of str
+        One line per law carried over, with the fields in which today's push differed;
+        :class:`rigid.tasks.rekey.RekeyError` if one differs and not ``keep_differing``.
+    """
     from rigid.tasks.rekey import RekeyError, code_at
 
-    carried = 0
+    lines = []
     for model, torn, slider in _wanted(models, fracture, edge_radius):
         new = rim_law_cache_file(bearing, model, torn, edge_radius=slider).stem
         if new in store:
@@ -142,13 +151,17 @@ def carry_rim_laws(store: ResultStore, bearing: DFPBearing, models, revision: st
         if stored is None:
             continue
         differ = law_differences(_push(bearing, model, torn, slider), _from_json(stored))
-        if differ:
-            raise RekeyError(f"the {model} rim law pushed with today's code differs from the "
-                             f"one stored by {revision} ({', '.join(differ)}): the physics "
-                             "changed; nothing was carried over (rerun instead)")
+        name = f"the {model} rim law{'' if torn is None else ' through tearing'}"
+        if differ and not keep_differing:
+            raise RekeyError(f"{name} pushed with today's code differs from the one stored "
+                             f"by {revision} ({', '.join(differ)}): the physics changed, or "
+                             "the push is not repeatable there; nothing was carried over "
+                             "(rerun instead, or keep the stored law: --keep-stored-laws)")
         store.put(new, "rim-law", stored)
-        carried += 1
-    return carried
+        lines.append(f"{name} carried over" + (
+            f", kept although today's push differs in {', '.join(differ)}" if differ else
+            ": today's push agrees"))
+    return lines
 
 
 def _paired(xa: np.ndarray, xb: np.ndarray):

@@ -59,15 +59,17 @@ DESIGN_SPACES = {
 }
 
 
-def rekey_command(folder: str, revision: str) -> list[str]:
+def rekey_command(folder: str, revision: str, keep_laws: bool = False) -> list[str]:
     """The command that carries the store of ``folder`` (under docs/) over from the keys of
-    ``revision``'s code to today's."""
+    ``revision``'s code to today's; ``keep_laws``: its rim laws even where today's push
+    differs (``dfp validate --keep-stored-laws``; validation folders only)."""
     out = ["--out", str(DOCS / folder), "--rekey-from", revision]
     if folder in DESIGN_SPACES:
         return [sys.executable, "-m", "validation.studies.rim_design", *DESIGN_SPACES[folder],
                 *out]
     args = {**REPLAYABLE, **UNFINISHED}[folder]
-    return [sys.executable, "-m", "validation.cli", "validate", *args, *out, "--no-progress"]
+    return [sys.executable, "-m", "validation.cli", "validate", *args, *out, "--no-progress",
+            *(["--keep-stored-laws"] if keep_laws else [])]
 
 
 def main(argv=None) -> int:
@@ -79,12 +81,15 @@ def main(argv=None) -> int:
     p.add_argument("--only", nargs="+", choices=[*finished, *UNFINISHED], metavar="FOLDER",
                    help=f"these folders only (default: {', '.join(finished)}; an unfinished "
                    f"one, {', '.join(UNFINISHED)}, then goes on with its run)")
+    p.add_argument("--keep-stored-laws", action="store_true",
+                   help="carry the rim laws of the validation folders over even where "
+                   "today's push differs (dfp validate --keep-stored-laws)")
     args = p.parse_args(argv)
     failed = []
     for folder in args.only or finished:
         t0 = time.perf_counter()
         print(f"{folder}: carrying over from {args.rekey_from}", flush=True)
-        done = subprocess.run(rekey_command(folder, args.rekey_from))
+        done = subprocess.run(rekey_command(folder, args.rekey_from, args.keep_stored_laws))
         print(f"{folder}: {'done' if done.returncode == 0 else 'FAILED'} in "
               f"{time.perf_counter() - t0:.0f} s", flush=True)
         if done.returncode:
