@@ -216,7 +216,8 @@ def _rekey(args) -> None:
     with ResultStore(args.out / "store" / "results.sqlite") as store:
         for t in args.thicknesses:
             bearing = DFPBearing(rim_thickness=t * 1e-3, rim_height=args.rim_height * 1e-3)
-            carry_rim_laws(store, bearing, [args.rim_model], args.rekey_from)
+            for line in carry_rim_laws(store, bearing, [args.rim_model], args.rekey_from):
+                print(f"--rekey-from {args.rekey_from}: {t:g} mm: {line}")
             keep_rim_laws(store, bearing, [args.rim_model])
 
     def replay(seen):

@@ -55,8 +55,9 @@ def stored_law(out: Path, bearing: DFPBearing, fracture: str, edge_radius,
     with ResultStore(out / "results.sqlite") as store, keys:
         law = stored_rim_law(store, bearing, fracture=fracture, edge_radius=edge_radius)
     if law is None:
-        raise SystemExit(f"{out}: no {fracture} law through tearing under today's key "
-                         "(carry the store over first: committed_stores --rekey-from)")
+        raise SystemExit(f"{out}: no {fracture} law through tearing under the keys of "
+                         f"{revision or 'today'}'s code (carry the store over first, or name "
+                         "the code that stored it: --stored-under)")
     return law
 
 
