@@ -349,17 +349,16 @@ def validate(args) -> int:
 
         from .stored_rim_laws import carry_rim_laws, keep_rim_laws
 
+        pushed = DFPBearing(**dict(bearing))
         which = {"fracture": rim_fracture if "yielding" in args.rims else None,
                  "edge_radius": slider_edges}
         try:
             with ResultStore(out / "results.sqlite") as store:
                 if args.rekey_from:
-                    for line in carry_rim_laws(store, DFPBearing(**dict(bearing)), laws,
-                                               args.rekey_from,
+                    for line in carry_rim_laws(store, pushed, laws, args.rekey_from,
                                                keep_differing=args.keep_stored_laws, **which):
                         print(f"--rekey-from {args.rekey_from}: {line}")
-                keep_rim_laws(store, DFPBearing(**dict(bearing)), laws, replay=args.replay,
-                              **which)
+                keep_rim_laws(store, pushed, laws, replay=args.replay, **which)
         except MissingResultsError as exc:
             raise CommandError(str(exc)) from None
         except RekeyError as exc:

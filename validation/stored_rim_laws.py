@@ -21,7 +21,8 @@ from rigid import DFPBearing
 from rigid.rims import RimLaw, load_rim_law, rim_law_cache_file, save_rim_law
 from rigid.tasks import MissingResultsError, ResultStore
 
-__all__ = ["carry_rim_laws", "keep_rim_laws", "law_differences", "stored_rim_law"]
+__all__ = ["carry_rim_laws", "curve_gap", "keep_rim_laws", "law_differences",
+           "stored_rim_law"]
 
 #: Tolerance of today's push against a stored law when carrying it over: relative for the
 #: law's marks (first yield, hinge, rupture, first tear), and for its curves (push force,
@@ -165,23 +166,45 @@ def carry_rim_laws(store: ResultStore, bearing: DFPBearing, models, revision: st
 
 
 def _paired(xa: np.ndarray, xb: np.ndarray):
-    """Indices (i, j) of the samples of two curves at the same abscissa, to 1e-5 of the range
-    (the push's increments are at least 25 µm, 6e-4 of a 40 mm push; a backbone row's set
-    moves with its force, F/k_el): a push that took other increments shares most of its
-    samples with the other."""
-    tol = 1e-5 * max(np.abs(xa).max(initial=0.0), np.abs(xb).max(initial=0.0))
-    j = np.clip(np.searchsorted(xb, xa), 1, max(xb.size - 1, 1))
-    j = np.where(np.abs(xb[j - 1] - xa) <= np.abs(xb[j] - xa), j - 1, j) if xb.size > 1 else (
-        np.zeros(xa.size, dtype=int))
-    i = np.flatnonzero(np.abs(xb[j] - xa) <= tol) if xb.size else np.zeros(0, dtype=int)
+    """Indices (i, j) of the samples of two sorted curves at the same abscissa, to 1e-5 of
+    the range (the push's increments are at least 25 µm, 6e-4 of a 40 mm push; a backbone
+    row's set moves with its force, F/k_el): a push that took other increments shares most
+    of its samples with the other."""
+    if not (xa.size and xb.size):
+        return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
+    tol = 1e-5 * max(np.abs(xa).max(), np.abs(xb).max())
+    right = np.clip(np.searchsorted(xb, xa), 0, xb.size - 1)
+    left = np.maximum(right - 1, 0)
+    j = np.where(np.abs(xb[left] - xa) <= np.abs(xb[right] - xa), left, right)
+    i = np.flatnonzero(np.abs(xb[j] - xa) <= tol)
     return i, j[i]
+
+
+def curve_gap(now: RimLaw, then: RimLaw, x: str, y: str, up_to: float = np.inf):
+    """Two laws' curve ``y`` against ``x`` (:data:`CURVES`) at the samples they share up to
+    the permanent set ``up_to`` [m] (for the push curve, u_p = δ − F/k_el, Eq. R56): the
+    largest difference relative to the curve's largest value, and the smaller of the two
+    fractions of samples shared (None, None if one law lacks the curve)."""
+    xa, ya, xb, yb = (np.asarray(getattr(law, n), dtype=float)
+                      for law in (now, then) for n in (x, y))
+    if ya.size != xa.size or yb.size != xb.size:
+        return None, None
+    sa, sb = ((xa - ya / now.stiffness, xb - yb / then.stiffness) if x == "push_displacement"
+              else (xa, xb))
+    ka, kb = sa <= up_to, sb <= up_to
+    i, j = _paired(xa[ka], xb[kb])
+    gap = np.abs(ya[ka][i] - yb[kb][j]).max(initial=0.0)
+    peak = max(np.abs(ya).max(initial=0.0), np.abs(yb).max(initial=0.0))
+    relative = gap / peak if peak > 0.0 else (0.0 if gap == 0.0 else np.inf)
+    return relative, min(i.size / max(ka.sum(), 1), j.size / max(kb.sum(), 1))
 
 
 def law_differences(now: RimLaw, then: RimLaw, rtol: float = LAW_RTOL) -> list[str]:
     """The fields of two rim laws that differ by more than ``rtol`` (:data:`LAW_RTOL`): the
     scalar marks relative to their size (equal infinities agree); the curves (:data:`CURVES`)
     relative to their largest value at the samples they share, which must be at least
-    :data:`SHARED` of each one's samples, up to the first tear for laws through tearing."""
+    :data:`SHARED` of each one's samples, up to the first tear for laws through tearing
+    (:func:`curve_gap`)."""
     out = []
     for f in dataclasses.fields(RimLaw):
         a, b = getattr(now, f.name), getattr(then, f.name)
@@ -190,19 +213,10 @@ def law_differences(now: RimLaw, then: RimLaw, rtol: float = LAW_RTOL) -> list[s
             out.append(f.name)
     tear = min(now.tear_set, then.tear_set)  # inf without tearing
     for x, y in CURVES:
-        xa, ya, xb, yb = (np.asarray(getattr(law, n), dtype=float)
-                          for law in (now, then) for n in (x, y))
-        if ya.size != xa.size or yb.size != xb.size:  # a curve one of the laws does not have
-            if ya.size or yb.size:
+        gap, shared = curve_gap(now, then, x, y, tear)
+        if gap is None:  # a curve one of the laws does not have
+            if getattr(now, y).size or getattr(then, y).size:
                 out.append(y)
-            continue
-        # up to the tear, in permanent set (Eq. R56: u_p = δ − F/k_el)
-        sa, sb = ((xa - ya / now.stiffness, xb - yb / then.stiffness) if x == "push_displacement"
-                  else (xa, xb))
-        ka, kb = sa <= tear, sb <= tear
-        i, j = _paired(xa[ka], xb[kb])
-        scale = rtol * max(np.abs(ya).max(), np.abs(yb).max())
-        if (min(i.size / max(ka.sum(), 1), j.size / max(kb.sum(), 1)) < SHARED
-                or (np.abs(ya[ka][i] - yb[kb][j]) > scale).any()):
+        elif shared < SHARED or gap > rtol:
             out.append(y)
     return out

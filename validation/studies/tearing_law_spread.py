@@ -27,6 +27,7 @@ import os
 import tempfile
 import time
 from pathlib import Path
+from unittest.mock import patch
 
 import numpy as np
 
@@ -34,7 +35,7 @@ from rigid import DFPBearing, G, critical_sa, fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.rims import RimLaw
 from rigid.tasks import ResultStore
-from validation.stored_rim_laws import stored_rim_law
+from validation.stored_rim_laws import curve_gap, stored_rim_law
 
 from . import DOCS, RESULTS
 
@@ -65,33 +66,27 @@ def pushed_here(bearing: DFPBearing, fracture: str, edge_radius) -> RimLaw:
     """The same law pushed on this machine by today's code, in a cache of its own."""
     from fem import rim_law
 
-    previous = os.environ.get("DFP_CACHE_DIR")
-    with tempfile.TemporaryDirectory() as cache:
-        os.environ["DFP_CACHE_DIR"] = cache
-        try:
-            punch = {} if edge_radius is None else {"punch": "slider",
-                                                     "edge_radius": edge_radius}
-            return rim_law(bearing, fracture=fracture, **punch)
-        finally:
-            if previous is None:
-                del os.environ["DFP_CACHE_DIR"]
-            else:
-                os.environ["DFP_CACHE_DIR"] = previous
+    punch = {} if edge_radius is None else {"punch": "slider", "edge_radius": edge_radius}
+    with tempfile.TemporaryDirectory() as cache, patch.dict(os.environ,
+                                                           {"DFP_CACHE_DIR": cache}):
+        return rim_law(bearing, fracture=fracture, **punch)
 
 
 def law_spread(here: RimLaw, stored: RimLaw) -> dict:
-    """The two laws' difference before and after the first tear: the largest backbone
-    difference [N] (linear interpolation, on the sets both cover) and the rim-off sets [m]."""
+    """The two laws' first tears and rim-off sets [mm], and their backbones' difference
+    relative to the peak force: before the first tear at the samples both share
+    (:func:`validation.stored_rim_laws.curve_gap`, with the fraction shared), after it by
+    linear interpolation on the sets both cover (their samples part there)."""
+    tear = min(here.tear_set, stored.tear_set)
+    before, shared = curve_gap(here, stored, "plastic_set", "force", np.nextafter(tear, 0.0))
     top = min(here.plastic_set.max(), stored.plastic_set.max())
     at = np.union1d(here.plastic_set, stored.plastic_set)
-    at = at[at <= top]
-    gap = np.abs(here.backbone(at) - stored.backbone(at))
-    tear = min(here.tear_set, stored.tear_set)
-    peak = max(here.force.max(), stored.force.max())
+    at = at[(at >= tear) & (at <= top)]
+    after = np.abs(here.backbone(at) - stored.backbone(at)).max(initial=0.0)
     return {"tear_set_here_mm": here.tear_set * 1e3, "tear_set_stored_mm": stored.tear_set * 1e3,
             "off_set_here_mm": here.off_set * 1e3, "off_set_stored_mm": stored.off_set * 1e3,
-            "before_tear_of_peak": float(gap[at < tear].max() / peak),
-            "after_tear_of_peak": float(gap[at >= tear].max(initial=0.0) / peak)}
+            "before_tear_of_peak": float(before), "shared_before_tear": float(shared),
+            "after_tear_of_peak": float(after / max(here.force.max(), stored.force.max()))}
 
 
 def main(argv=None) -> None:
