@@ -120,6 +120,7 @@ class TangentSolver:
         self._node = col[system.node_dofs].T  # (n, 2)
         self._slider = col[system.slider_dofs]
         self._bases: OrderedDict = OrderedDict()
+        self._elastic: OrderedDict = OrderedDict()  # c₀M + sK_el per (c₀, s), torn solves
         self.factorizations = self.fallbacks = self.solves = self.freezes = 0
 
     def _base(self, c0: float, s: float) -> _Base:
@@ -142,6 +143,24 @@ class TangentSolver:
         against ``base``'s frozen elements, which are left out while elastic; ``gradient``:
         :meth:`fem.system.CoupledSystem.material_blocks`'), and the number of elastic elements
         in it."""
+        S, flat, values, elastic = self._scattered(ev, s, base, gradient)
+        W = np.bincount(flat, values, minlength=S.size * S.size).reshape(S.size, S.size)
+        return S, W, elastic
+
+    def sparse_modification(self, ev, s: float, gradient: float | None = None):
+        """S and the nonzero entries of :meth:`modification`'s W as rows, columns (reduced
+        dofs) and values, row by row: the same sums without forming the dense |S| × |S| block
+        (the torn solves' S spans most of a rim)."""
+        S, flat, values, _ = self._scattered(ev, s, None, gradient)
+        entries, which = np.unique(flat, return_inverse=True)
+        sums = np.bincount(which, values, minlength=entries.size)  # in the order of W's sums
+        nonzero = sums != 0.0
+        entries, sums = entries[nonzero], sums[nonzero]
+        return S, S[entries // max(S.size, 1)], S[entries % max(S.size, 1)], sums
+
+    def _scattered(self, ev, s: float, base: _Base | None, gradient: float | None):
+        """S, and W's contributions as positions in the row-major |S| × |S| block with their
+        values (summed in this order), and the number of elastic elements."""
         blocks, dofs = [], []
         con = ev.contact
         active = np.flatnonzero(con.active)
@@ -164,7 +183,7 @@ class TangentSolver:
             blocks.append(material)
             dofs.append(self._elem[elements])
         if not blocks:
-            return np.zeros(0, dtype=int), np.zeros((0, 0)), elastic
+            return np.zeros(0, dtype=int), np.zeros(0, dtype=int), np.zeros(0), elastic
         # pad every block to 8 × 8 so that all can be scattered at once
         kk, dd = [], []
         for b, d in zip(blocks, dofs, strict=True):
@@ -181,8 +200,7 @@ class TangentSolver:
         loc = np.where(D >= 0, np.searchsorted(S, np.maximum(D, 0)), -1)
         keep = (loc[:, :, None] >= 0) & (loc[:, None, :] >= 0)
         flat = (loc[:, :, None] * S.size + loc[:, None, :])[keep]
-        W = np.bincount(flat, s * B[keep], minlength=S.size * S.size).reshape(S.size, S.size)
-        return S, W, elastic
+        return S, flat, s * B[keep], elastic
 
     def thaw(self) -> None:
         """Make every factorization with frozen tangents refreeze them at its next solve (after
@@ -308,11 +326,14 @@ class TangentSolver:
     def _torn(self, ev, c0, s, rhs):
         """x from a sparse LU of c₀M + s(K_el + W), W the exact tangent less K_el on the
         elements past :data:`TORN_ACTIVE_GRADIENT` and the contacts (Eq. F35b)."""
-        S, W, _ = self.modification(ev, s, gradient=TORN_ACTIVE_GRADIENT)
-        A = sp.diags(c0 * self.M) + s * self.K_el
+        S, rows, cols, values = self.sparse_modification(ev, s, gradient=TORN_ACTIVE_GRADIENT)
+        A = self._elastic.get((c0, s))
+        if A is None:
+            A = self._elastic[(c0, s)] = sp.diags(c0 * self.M) + s * self.K_el
+            while len(self._elastic) > self.keep:
+                self._elastic.popitem(last=False)
         if S.size:
-            i, j = np.nonzero(W)
-            A = A + sp.csr_matrix((W[i, j], (S[i], S[j])), shape=A.shape)
+            A = A + sp.csr_matrix((values, (rows, cols)), shape=A.shape)
         return factorize(A).solve(rhs)
 
     def _assembled(self, ev, c0, s, rhs):

@@ -213,7 +213,8 @@ def test_torn_solve(turned):
     except on the elements below TORN_ACTIVE_GRADIENT that do not yield (1e-9 relative, as
     above). The plate is turned by 5e-3 rad, so its elements' gradients (about 7e-3) lie
     between that threshold and ACTIVE_GRADIENT: the matrix with the coarser threshold gives
-    a solution farther off than round-off (> 1e-6), so the test tells the two apart."""
+    a solution farther off than round-off (> 1e-6), so the test tells the two apart. The
+    torn solve's sparse entries are the dense low-rank block's, exactly."""
     from fem.dynamics import Integrator
     from fem.linear import TORN_ACTIVE_GRADIENT
 
@@ -241,5 +242,14 @@ def test_torn_solve(turned):
         assert np.linalg.norm(x - xd) <= 1e-9 * np.linalg.norm(xd)
         coarse = spsolve(_solver_matrix(model, ev, c0, s, {}).tocsc(), rhs)
         assert np.linalg.norm(coarse - xd) > 1e-6 * np.linalg.norm(xd)
+        # the torn solve's entries are the dense block's nonzeros, bit for bit and in its order
+        S, W, _ = solver.modification(ev, s, gradient=TORN_ACTIVE_GRADIENT)
+        S2, rows, cols, values = solver.sparse_modification(ev, s, TORN_ACTIVE_GRADIENT)
+        i, j = np.nonzero(W)
+        assert S.size > 100 and np.array_equal(S2, S)
+        assert np.array_equal(rows, S[i]) and np.array_equal(cols, S[j])
+        assert np.array_equal(values, W[i, j])
+        # a second solve at the same step size (its elastic part cached) is the same solve
+        assert np.array_equal(solver.solve(ev, c0, s, rhs), x)
     finally:
         fe.retained, sysm.nodes = intact

@@ -239,14 +239,18 @@ def evaluate(
     node_force = force[:2]
     slider_force = force[2:].sum(axis=1)
 
-    # Tangent K = −∂F/∂d (Eq. F18), with the curvature term N∇²δ (Eq. F19).
-    kn = np.where(active, penalty * L, 0.0)
-    K = kn * np.einsum("in,jn->ijn", grad_d, grad_d)
-    K += N * _depth_hessian(Rm, nu, xi, jxi, rho)
-    kt = np.where(stick, tangential_penalty * L, 0.0)
-    K += kt * np.einsum("in,jn->ijn", grad_s, grad_s)
-    ks = np.where(active & ~stick, -nodes.friction * sign * penalty * L, 0.0)
-    K += ks * np.einsum("in,jn->ijn", grad_s, grad_d)
+    # Tangent K = −∂F/∂d (Eq. F18), with the curvature term N∇²δ (Eq. F19); zero where open
+    K = np.zeros((5, 5, L.size))
+    a = np.flatnonzero(active)
+    if a.size:
+        gd, gs, La = grad_d[:, a], grad_s[:, a], L[a]
+        Ka = penalty * La * np.einsum("in,jn->ijn", gd, gd)
+        Ka += N[a] * _depth_hessian(Rm, nu[:, a], xi[:, a], jxi[:, a], rho[a])
+        kt = np.where(stick[a], tangential_penalty * La, 0.0)
+        Ka += kt * np.einsum("in,jn->ijn", gs, gs)
+        ks = np.where(stick[a], 0.0, -nodes.friction[a] * sign[a] * penalty * La)
+        Ka += ks * np.einsum("in,jn->ijn", gs, gd)
+        K[:, :, a] = Ka
 
     new_state = ContactState(xi, T, np.where(active, face, -1))
     energy = float(0.5 * (N * np.where(active, gap, 0.0)).sum())

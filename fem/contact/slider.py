@@ -5,11 +5,13 @@ face's normal (the gap of the contact law; docs/theory/finite-elements.md, "Cont
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numba import njit
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from rigid.bearing import DFPBearing
@@ -116,60 +118,85 @@ def penetration(shape: SliderShape, xi: np.ndarray):
     depth : ndarray, shape (n,) [m]
         Smallest face depth; positive inside the section.
     face : ndarray of int, shape (n,)
-        :data:`BOTTOM`, :data:`TOP`, :data:`LEFT` or :data:`RIGHT`.
+        :data:`BOTTOM`, :data:`TOP`, :data:`LEFT` or :data:`RIGHT`, or one of :data:`EDGES`.
     normal : ndarray, shape (2, n) [-]
         Outward unit normal ν of that face at the closest point (body frame).
     radius : ndarray, shape (n,) [m]
         Distance ρ from the face circle's centre (inf for the flat sides), for the curvature.
     """
-    xi = np.asarray(xi, dtype=float)
-    R = shape.radius
-    cb, ct = shape.centres
-    rb = xi - cb[:, None]
-    rt = xi - ct[:, None]
-    lb = np.hypot(rb[0], rb[1])
-    lt = np.hypot(rt[0], rt[1])
-    depths = np.stack([R - lb, R - lt, shape.half_width + xi[0], shape.half_width - xi[0]])
-    face = np.argmin(depths, axis=0)
-    depth = depths[face, np.arange(xi.shape[1])]
-    normal = np.zeros_like(xi)
-    radius = np.full(xi.shape[1], np.inf)
-    for f, r, length in ((BOTTOM, rb, lb), (TOP, rt, lt)):
-        m = face == f
-        normal[:, m] = r[:, m] / length[m]
-        radius[m] = length[m]
-    normal[0, face == LEFT] = -1.0
-    normal[0, face == RIGHT] = 1.0
-    if shape.edge_radius > 0.0:
-        _round_edges(shape, xi, depth, face, normal, radius)
+    xi = np.ascontiguousarray(xi, dtype=float)
+    n = xi.shape[1]
+    depth, radius = np.empty(n), np.empty(n)
+    face = np.empty(n, dtype=np.intp)
+    normal = np.empty((2, n))
+    _penetration_points(xi, shape.radius, shape.half_width, shape.centres, _edges(shape),
+                        shape.edge_radius, depth, face, normal, radius)
     return depth, face, normal, radius
 
 
-def _round_edges(shape: SliderShape, xi, depth, face, normal, radius) -> None:
-    """Overwrite, in place, the points whose closest face is a rounded edge: those in the
-    wedge between the edge's two end normals (the side's and the spherical face's, both
-    through the edge centre f), where δ = r − |ξ − f| (Eq. F14a)."""
-    r = shape.edge_radius
+@functools.lru_cache(maxsize=16)
+def _edges(shape: SliderShape) -> np.ndarray:
+    """Per rounded edge k (rows, none if the edges are sharp): its centre f, its two end
+    normals (the side's n_s, the spherical face's n_f, both through f) and det[n_s n_f],
+    (k, 7): f_x, f_z, n_s,x, n_s,z, n_f,x, n_f,z, det (Eq. F14a); cached per shape, not to be
+    modified."""
+    if shape.edge_radius <= 0.0:
+        return np.zeros((0, 7))
     centres = shape.edge_centres
+    rows = []
     for k, (side, sphere) in enumerate(((LEFT, BOTTOM), (RIGHT, BOTTOM), (LEFT, TOP),
                                         (RIGHT, TOP))):
         f = centres[:, k]
         n_side = np.array([-1.0 if side == LEFT else 1.0, 0.0])
         n_face = f - shape.centres[sphere]
         n_face /= np.linalg.norm(n_face)
-        d = xi - f[:, None]
-        # d = α n_side + β n_face with α, β ≥ 0: inside the wedge
         det = n_side[0] * n_face[1] - n_side[1] * n_face[0]
-        alpha = (d[0] * n_face[1] - d[1] * n_face[0]) / det
-        beta = (n_side[0] * d[1] - n_side[1] * d[0]) / det
-        m = (alpha >= 0.0) & (beta >= 0.0)
-        if not m.any():
-            continue
-        length = np.hypot(d[0, m], d[1, m])
-        depth[m] = r - length
-        face[m] = EDGES[k]
-        normal[:, m] = d[:, m] / length
-        radius[m] = length
+        rows.append([f[0], f[1], n_side[0], n_side[1], n_face[0], n_face[1], det])
+    return np.array(rows)
+
+
+@njit(cache=True)
+def _penetration_points(xi, R, half_width, centres, edges, edge_radius, depth, face, normal,
+                        radius):
+    """:func:`penetration` point by point (columns of xi), into the output arrays. The closest
+    of the four faces is the first smallest depth (NaN first, as ``np.argmin``); a point in
+    the wedge of a rounded edge (d = α n_s + β n_f, α, β ≥ 0, d = ξ − f) then takes that edge,
+    the later edge winning (Eq. F14a)."""
+    depths = np.empty(4)
+    for i in range(xi.shape[1]):
+        x0, x1 = xi[0, i], xi[1, i]
+        rb0, rb1 = x0 - centres[0, 0], x1 - centres[0, 1]
+        rt0, rt1 = x0 - centres[1, 0], x1 - centres[1, 1]
+        lb, lt = math.hypot(rb0, rb1), math.hypot(rt0, rt1)
+        depths[0], depths[1] = R - lb, R - lt
+        depths[2], depths[3] = half_width + x0, half_width - x0
+        best = 0
+        if not math.isnan(depths[0]):
+            for f in range(1, 4):
+                if math.isnan(depths[f]):
+                    best = f
+                    break
+                if depths[f] < depths[best]:
+                    best = f
+        face[i] = best
+        depth[i] = depths[best]
+        if best == BOTTOM:
+            normal[0, i], normal[1, i], radius[i] = rb0 / lb, rb1 / lb, lb
+        elif best == TOP:
+            normal[0, i], normal[1, i], radius[i] = rt0 / lt, rt1 / lt, lt
+        else:
+            normal[0, i] = -1.0 if best == LEFT else 1.0
+            normal[1, i], radius[i] = 0.0, np.inf
+        for k in range(edges.shape[0]):
+            d0, d1 = x0 - edges[k, 0], x1 - edges[k, 1]
+            ns0, ns1, nf0, nf1, det = edges[k, 2:7]
+            alpha = (d0 * nf1 - d1 * nf0) / det
+            beta = (ns0 * d1 - ns1 * d0) / det
+            if alpha >= 0.0 and beta >= 0.0:
+                length = math.hypot(d0, d1)
+                depth[i] = edge_radius - length
+                face[i] = EDGES[0] + k
+                normal[0, i], normal[1, i], radius[i] = d0 / length, d1 / length, length
 
 
 def body_coordinates(x: np.ndarray, pose) -> np.ndarray:
