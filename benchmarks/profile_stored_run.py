@@ -10,13 +10,16 @@ Run, from a checkout (it reads the store through ``validation.studies``)::
         --rim-thickness 80 --fem-fracture median --fem-edge-radius 20 --rim-punch slider \\
         --record nearfield_pulse-2a --sa 0.24 [--top 25] [--save run.pstats]
 
-(the run's stored CPU time and about half as much again for the profiler).
+(the run's stored CPU time and about half as much again for the profiler). With
+``--no-profile`` the run is only timed (CPU, wall and the machine's load), to compare two
+checkouts' code on the same stored run.
 """
 
 from __future__ import annotations
 
 import argparse
 import cProfile
+import os
 import pstats
 import time
 from pathlib import Path
@@ -41,6 +44,8 @@ def main(argv=None) -> None:
     p.add_argument("--sa", type=float, required=True, help="the run's SA [g], to 0.005 g")
     p.add_argument("--top", type=int, default=25)
     p.add_argument("--save", type=Path, default=None, help="write the profile here")
+    p.add_argument("--no-profile", dest="profile", action="store_false",
+                   help="time the run without the profiler")
     args = p.parse_args(argv)
     settings = run_settings(args.limit_state, args.rim_thickness, args.fem_fracture,
                             args.fem_edge_radius, args.rim_punch)
@@ -52,18 +57,22 @@ def main(argv=None) -> None:
         raise SystemExit(f"{args.out}: no stored run of {args.record}* at {args.sa:g} g")
     stored, kwargs = found[0]
     profile = cProfile.Profile()
-    cpu = time.process_time()
+    cpu, wall = time.process_time(), time.perf_counter()
     with threadpool_limits(1):
-        profile.enable()
+        if args.profile:
+            profile.enable()
         again = fem_run(**kwargs)
         profile.disable()
-    cpu = time.process_time() - cpu
+    cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
     differ = [f for f in FIELDS if stored[f] != again[f]]
     print(f"{args.record} at {args.sa:g} g: {again['steps']} steps, "
           f"{again['newton_iterations']} Newton iterations, {again['dofs']} dofs; "
-          f"{cpu:.1f} s of CPU profiled against {stored['cpu_seconds']:.1f} s stored; "
+          f"{cpu:.1f} s of CPU{' profiled' if args.profile else ''} ({wall:.1f} s wall, "
+          f"load {os.getloadavg()[0]:.1f}) against {stored['cpu_seconds']:.1f} s stored; "
           + ("the same result as stored" if not differ else
              f"differs from the stored result in {', '.join(differ)}"))
+    if not args.profile:
+        return
     if args.save:
         profile.dump_stats(args.save)
     stats = pstats.Stats(profile).strip_dirs()

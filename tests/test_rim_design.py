@@ -169,3 +169,14 @@ def test_fracture_sensitivity_sets_each_set_beside_the_median(tmp_path):
     assert median["fem_mild_over_median"] == pytest.approx(1.35)
     assert (low["fem_steep_over_median"], high["fem_steep_over_median"]) == pytest.approx(
         (0.8, 1.0))
+
+
+def test_keep_stored_laws_needs_rekey_from(capsys):
+    """The design space's --keep-stored-laws without --rekey-from is refused before anything
+    runs (argparse's exit 2, the reason on stderr)."""
+    from validation.studies.rim_design import main
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["--keep-stored-laws", "--records", "1"])
+    assert exit_.value.code == 2
+    assert "--keep-stored-laws needs --rekey-from" in capsys.readouterr().err

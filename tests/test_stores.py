@@ -72,6 +72,8 @@ def test_the_registry_names_the_committed_stores():
     for folder in DESIGN_SPACES:
         assert (DOCS / folder / "store" / "results.sqlite").is_file(), folder
         assert rekey_command(folder, "abc1234")[-2:] == ["--rekey-from", "abc1234"]
+    for folder in [*REPLAYABLE, *UNFINISHED, *DESIGN_SPACES]:  # --keep-stored-laws passed on
+        assert rekey_command(folder, "abc1234", keep_laws=True)[-1] == "--keep-stored-laws"
 
 
 def test_the_rim_pushes_replay_without_computing(tmp_path):

@@ -62,14 +62,15 @@ DESIGN_SPACES = {
 def rekey_command(folder: str, revision: str, keep_laws: bool = False) -> list[str]:
     """The command that carries the store of ``folder`` (under docs/) over from the keys of
     ``revision``'s code to today's; ``keep_laws``: its rim laws even where today's push
-    differs (``dfp validate --keep-stored-laws``; validation folders only)."""
+    differs (``--keep-stored-laws`` of ``dfp validate`` and of the design space)."""
     out = ["--out", str(DOCS / folder), "--rekey-from", revision]
+    keep = ["--keep-stored-laws"] if keep_laws else []
     if folder in DESIGN_SPACES:
         return [sys.executable, "-m", "validation.studies.rim_design", *DESIGN_SPACES[folder],
-                *out]
+                *out, *keep]
     args = {**REPLAYABLE, **UNFINISHED}[folder]
     return [sys.executable, "-m", "validation.cli", "validate", *args, *out, "--no-progress",
-            *(["--keep-stored-laws"] if keep_laws else [])]
+            *keep]
 
 
 def main(argv=None) -> int:
@@ -82,8 +83,8 @@ def main(argv=None) -> int:
                    help=f"these folders only (default: {', '.join(finished)}; an unfinished "
                    f"one, {', '.join(UNFINISHED)}, then goes on with its run)")
     p.add_argument("--keep-stored-laws", action="store_true",
-                   help="carry the rim laws of the validation folders over even where "
-                   "today's push differs (dfp validate --keep-stored-laws)")
+                   help="carry the stores' rim laws over even where today's push differs "
+                   "(--keep-stored-laws of dfp validate and of the design space)")
     args = p.parse_args(argv)
     failed = []
     for folder in args.only or finished:

@@ -208,7 +208,8 @@ def _groups(rows):
 def _rekey(args) -> None:
     """``--rekey-from``: :func:`rigid.tasks.rekey.rekey` of the study's store, replaying
     :func:`cases` with the arguments given, once the rims' laws are stored under today's
-    keys (carried over once today's push agrees, pushed where the store lacks them)."""
+    keys (carried over once today's push agrees, or kept with ``--keep-stored-laws``;
+    pushed where the store lacks them)."""
     from rigid.tasks.rekey import rekey
 
     from ..stored_rim_laws import carry_rim_laws, keep_rim_laws
@@ -216,7 +217,8 @@ def _rekey(args) -> None:
     with ResultStore(args.out / "store" / "results.sqlite") as store:
         for t in args.thicknesses:
             bearing = DFPBearing(rim_thickness=t * 1e-3, rim_height=args.rim_height * 1e-3)
-            for line in carry_rim_laws(store, bearing, [args.rim_model], args.rekey_from):
+            for line in carry_rim_laws(store, bearing, [args.rim_model], args.rekey_from,
+                                       keep_differing=args.keep_stored_laws):
                 print(f"--rekey-from {args.rekey_from}: {t:g} mm: {line}")
             keep_rim_laws(store, bearing, [args.rim_model])
 
@@ -250,7 +252,13 @@ def main(argv=None) -> None:
                    help="first carry the cases that REVISION's code stored over to today's "
                    "keys, once the shortest two of each kind rerun equal "
                    "(rigid.tasks.rekey.rekey)")
+    p.add_argument("--keep-stored-laws", action="store_true",
+                   help="with --rekey-from: carry the store's rim laws over even where "
+                   "today's push differs (a push takes other increments on another machine); "
+                   "the differences are printed")
     args = p.parse_args(argv)
+    if args.keep_stored_laws and not args.rekey_from:
+        p.error("--keep-stored-laws needs --rekey-from")
     t0 = time.perf_counter()
     if args.rekey_from:
         from rigid.tasks.rekey import RekeyError
