@@ -76,6 +76,24 @@ def test_the_registry_names_the_committed_stores():
         assert rekey_command(folder, "abc1234", keep_laws=True)[-1] == "--keep-stored-laws"
 
 
+def test_the_stale_stores_have_a_command_that_parses():
+    """Every stale store of the registry is a committed folder, and the command that remakes
+    it is one today's dfp parser accepts, writing into that folder (the studies: their default
+    folders are the registered ones)."""
+    from validation.cli import build_parser
+    from validation.studies import FEM_VALIDATION, RESULTS
+    from validation.studies.committed_stores import STALE, rerun_command
+
+    for folder in STALE:
+        command = rerun_command(folder)
+        assert (DOCS / folder).is_dir(), folder
+        if command[2] == "validation.cli":
+            args = build_parser().parse_args(command[3:])
+            assert Path(args.out) == DOCS / folder and args.func.__name__ == "validate"
+    assert DOCS / "results" / "yielding_rims_fe" == RESULTS / "yielding_rims_fe"
+    assert DOCS / "fem-validation" == FEM_VALIDATION
+
+
 def test_the_rim_pushes_replay_without_computing(tmp_path):
     """The 3-D and 2-D rim pushes of docs/rim-3d (ours and CalculiX's) from its store."""
     out = tmp_path / "out"

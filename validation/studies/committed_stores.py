@@ -13,7 +13,8 @@ shortest tasks of each kind are rerun and must come out equal, floats to
 
 carries the finished ones over, one after the other (about 30 min of CPU in all, most of it the
 design spaces' rim pushes), in a checkout whose code is today's; REVISION is the last commit
-whose code made them.
+whose code made them. The stores no code of today reaches (:data:`STALE`) are remade with
+``--rerun FOLDER ...`` (hours).
 """
 
 from __future__ import annotations
@@ -52,6 +53,27 @@ UNFINISHED = {
                                        "--rim-punch", "slider"],
 }
 
+#: Stores that no code of today reaches (their keys changed with the inputs, not only the
+#: code, so ``--rekey-from`` cannot carry them): folder under docs/ → the command that made
+#: it (module and arguments, besides ``--out``), rerun from scratch with ``--rerun`` in this
+#: order (the trimming check reads the first folder's searches); hours of CPU in all
+#: (docs/fem_validation.md, "Which stores replay today").
+STALE = {
+    "fem-validation": ["validation.cli", "validate", "--limit-state", "hinge", "rupture",
+                       "containment"],
+    "fem-validation-rims80": ["validation.cli", "validate", "--rim-thickness", "80",
+                              "--limit-state", "hinge", "rupture", "containment"],
+    "fem-validation-ring/hinge": ["validation.cli", "validate", "--rim-model", "ring",
+                                  "--limit-state", "hinge"],
+    "fem-validation-ring/rupture": ["validation.cli", "validate", "--rim-model", "ring",
+                                    "--limit-state", "rupture"],
+    "results/fem_mesh_check": ["validation.cli", "validate", "--fem-mesh", "default",
+                               "--fem-records", "2", "--pressure", "60", "10", "--criteria",
+                               "3", "4", "--limit-state", "hinge", "rupture"],
+    "results/yielding_rims_fe": ["validation.studies.yielding_rims"],
+    "results/fem_trimming_check": ["validation.studies.fem_trimming_check"],
+}
+
 #: The design spaces (``python -m validation.studies.rim_design``): folder → arguments.
 DESIGN_SPACES = {
     "rim-design": [],
@@ -73,12 +95,26 @@ def rekey_command(folder: str, revision: str, keep_laws: bool = False) -> list[s
             *keep]
 
 
+def rerun_command(folder: str) -> list[str]:
+    """The command that remakes the stale store of ``folder`` (:data:`STALE`) with today's
+    code, resumable as every study's store; the two studies write to their default folders
+    (``yielding_rims``: docs/results/yielding_rims_fe; ``fem_trimming_check`` reads the
+    searches of docs/fem-validation and stores in docs/results/fem_trimming_check)."""
+    module, *args = STALE[folder]
+    out = ["--out", str(DOCS / folder), "--no-progress"] if module == "validation.cli" else []
+    return [sys.executable, "-m", module, *args, *out]
+
+
 def main(argv=None) -> int:
     finished = [*REPLAYABLE, *DESIGN_SPACES]
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--rekey-from", metavar="REVISION", required=True,
-                   help="the last commit whose code made the stores")
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--rekey-from", metavar="REVISION",
+                      help="the last commit whose code made the stores")
+    what.add_argument("--rerun", nargs="+", choices=list(STALE), metavar="FOLDER",
+                      help=f"remake these stale stores from scratch, in this order (hours; "
+                      f"{', '.join(STALE)})")
     p.add_argument("--only", nargs="+", choices=[*finished, *UNFINISHED], metavar="FOLDER",
                    help=f"these folders only (default: {', '.join(finished)}; an unfinished "
                    f"one, {', '.join(UNFINISHED)}, then goes on with its run)")
@@ -86,17 +122,25 @@ def main(argv=None) -> int:
                    help="carry the stores' rim laws over even where today's push differs "
                    "(--keep-stored-laws of dfp validate and of the design space)")
     args = p.parse_args(argv)
+    if args.rerun and (args.only or args.keep_stored_laws):
+        p.error("--only and --keep-stored-laws go with --rekey-from, not --rerun")
     failed = []
-    for folder in args.only or finished:
+    for folder in args.rerun or args.only or finished:
         t0 = time.perf_counter()
-        print(f"{folder}: carrying over from {args.rekey_from}", flush=True)
-        done = subprocess.run(rekey_command(folder, args.rekey_from, args.keep_stored_laws))
+        if args.rerun:
+            print(f"{folder}: remade with today's code", flush=True)
+            done = subprocess.run(rerun_command(folder))
+        else:
+            print(f"{folder}: carrying over from {args.rekey_from}", flush=True)
+            done = subprocess.run(rekey_command(folder, args.rekey_from,
+                                                args.keep_stored_laws))
         print(f"{folder}: {'done' if done.returncode == 0 else 'FAILED'} in "
               f"{time.perf_counter() - t0:.0f} s", flush=True)
         if done.returncode:
             failed.append(folder)
     if failed:
-        print(f"not carried over: {', '.join(failed)}", file=sys.stderr)
+        print(f"not {'remade' if args.rerun else 'carried over'}: {', '.join(failed)}",
+              file=sys.stderr)
     return 1 if failed else 0
 
 
