@@ -15,7 +15,10 @@ With ``--pose RECORD:PRESSURE:SA ...`` (the start of a record's name, MPa, g; th
 validation's stored runs), those FE runs are made again, stopped at the first tear, and the
 slider's pose there is set against its pendulum path, the path the law's push holds it to (Eq.
 F71): its rotation less the path angle on each dish, its rise above the bottom dish's path,
-and the largest rim force (``docs/results/tearing_onset_pose.csv``; a few minutes of CPU a run).
+the largest rim force, and how far the torn rim's face has moved out
+(``docs/results/tearing_onset_pose.csv``; a few minutes of CPU a run). With ``--tilt DEG ...``
+the 80 mm rim is pushed as for its law, but with the slider turned that far off its path
+(``docs/results/tearing_onset_tilt.csv``; about a minute a push).
 
 Writes ``docs/results/tearing_onset.csv`` and prints, per thickness and pressure, the cases where
 the FE rim tore at least 10 % below the rigid model's rupture SA. Reads the stores of
@@ -34,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rigid import G, fema_p695, simulate
+from rigid import DFPBearing, G, fema_p695, simulate
 from rigid.collapse import critical_sa
 from rigid.collapse.comparison import write_csv
 from rigid.tasks import ResultStore
@@ -89,7 +92,9 @@ def case_row(thickness, motion, pressure, runs, law, settings, table_row) -> dic
 
 def pose_at_tear(cases, motions) -> list[dict]:
     """The FE runs of the 80 mm validation named by ``cases`` ((record start, pressure [MPa],
-    SA [g])) made again to their first tear: the slider's pose there against its path (module
+    SA [g])) made again to their first tear, each beside the rigid model's run of the same
+    scaled record with the run's law: the slider's pose at the tear against its path, how far
+    the superstructure has travelled, how far the torn rim's face has moved out (module
     docstring)."""
     from threadpoolctl import threadpool_limits
 
@@ -97,32 +102,112 @@ def pose_at_tear(cases, motions) -> list[dict]:
     from validation.fem_runs import fem_run
 
     thickness = 80.0
+    folder = FOLDERS[thickness]
     settings = run_settings(["containment"], thickness, "median", 20.0, PUNCH[thickness][0])
+    with ResultStore(folder / "results.sqlite") as store:
+        laws = {p: stored_rim_law(store, settings.bearing_at(p * 1e6), fracture="median",
+                                  edge_radius=PUNCH[thickness][1]) for p in (60, 10)}
     rows, made = [], []
 
     def keep(*args, **options):  # fem_run's stand-in for fem.simulate: keeps the result
         made.append(fem.simulate(*args, **options))
         return made[-1]
 
-    for result, kwargs, motion, sa in stored_runs(FOLDERS[thickness], settings, motions):
+    for result, kwargs, motion, sa in stored_runs(folder, settings, motions):
         pressure = round(kwargs["bearing"]["pressure"] / 1e6)
         if not any(motion.name.startswith(name) and pressure == p and abs(sa - s) < 0.005
                    for name, p, s in cases) or result["limit_states"]["rupture"] is None:
             continue
         with threadpool_limits(1):  # as in a worker
-            fem_run(**{**kwargs, "limit_state": "rupture"}, simulate=keep)
+            stopped = fem_run(**{**kwargs, "limit_state": "rupture"}, simulate=keep)
         r = made[-1]
+        tear = stopped["limit_states"]["rupture"]  # [s from the record's start]
+        if abs(r.time[-1] + stopped["start"] - tear) > 1e-6:  # the run ends at its tear
+            raise RuntimeError(f"{motion.name}: the FE run did not stop at its first tear")
+        rigid = simulate(settings.bearing_at(pressure * 1e6),
+                         motion.acceleration * kwargs["scale"], motion.dt,
+                         duration=(motion.acceleration.size - 1) * motion.dt + 20.0,
+                         rims="yielding", limit_state="containment", rim_law=laws[pressure],
+                         stop_when_quiet=True, on_instability="refine")
         arm = r.bearing.radius - r.bearing.slider_height / 2  # the path's radius (Eq. F71)
         x, d, rotation = r.slider_displacement[-1], r.displacement[-1], r.slider_rotation[-1]
         bottom = math.asin(x / arm)  # concentric with the bottom dish; the top: x − d = −arm sin
+        upto = rigid.time <= tear
+        fe_rise = rise_above_path(r.slider_rise, r.slider_displacement, arm)
+        rigid_rise = rise_above_path(rigid.slider_rise, rigid.slider_displacement, arm)
         rows.append({"record": motion.name, "pressure_mpa": pressure, "sa_g": round(sa, 3),
-                     "first_tear_s": next(iter(r.torn_elements.values()))[0],
-                     "rim": next(iter(r.torn_elements.values()))[1],
+                     "first_tear_s": tear, "rim": first_torn_rim(r),
                      "rotation_off_bottom_path_deg": math.degrees(rotation - bottom),
                      "rotation_off_top_path_deg": math.degrees(rotation + math.asin((x - d) / arm)),
-                     "rise_above_bottom_path_mm": float(r.slider_rise[-1]
-                                                   - arm * (1 - math.cos(bottom))) * 1e3,
-                     "max_rim_force_mn": float(r.rim_force.max()) / 1e6})
+                     "fe_rise_above_path_mm": float(fe_rise[-1]) * 1e3,
+                     "rigid_rise_above_path_mm": float(rigid_rise[upto].max()) * 1e3,
+                     "fe_travel_mm": float(np.abs(r.displacement).max()) * 1e3,
+                     "rigid_travel_mm": float(np.abs(rigid.displacement[upto]).max()) * 1e3,
+                     # the normal forces on all four rims, summed (the rigid model's rim_force)
+                     "fe_max_rim_force_mn": float(r.rim_force.sum(axis=1).max()) / 1e6,
+                     "rigid_max_rim_force_mn": float(rigid.rim_force[upto].max()) / 1e6,
+                     "fe_torn_rim_face_set_mm": face_set(r, first_torn_rim(r)) * 1e3,
+                     "rigid_largest_set_mm": float(rigid.rim_set[upto].max()) * 1e3})
+        print(rows[-1], flush=True)
+    return rows
+
+
+def rise_above_path(rise, x, arm):
+    """The slider's rise above its pendulum path on the bottom dish [m] (Eq. F71): its rise
+    less arm·(1 − cos θ), sin θ = x/arm."""
+    return rise - arm * (1.0 - np.cos(np.arcsin(np.clip(x / arm, -1.0, 1.0))))
+
+
+def first_torn_rim(r) -> str:
+    """The rim of an FE result's first torn element ("bottom +x", …)."""
+    return next(iter(r.torn_elements.values()))[1]
+
+
+def face_set(r, rim: str) -> float:
+    """How far a rim's inner face has moved outward at the end of an FE run [m]: the largest
+    horizontal displacement of its face nodes relative to their plate (the top plate moves
+    with the superstructure block's top; the bottom plate's back face is held)."""
+    from skfem import Basis, ElementQuad1, ElementVector
+
+    mesh = r.mesh
+    ux = r.final_displacement[Basis(mesh, ElementVector(ElementQuad1())).nodal_dofs[0]]
+    plate, side = rim.split()
+    sign = 1.0 if side == "+x" else -1.0
+    face = np.unique(mesh.facets[:, mesh.boundaries[f"{plate}_rim_inner"]])
+    face = face[sign * mesh.p[0, face] > 0]
+    base = 0.0 if plate == "bottom" else ux[
+        np.unique(mesh.facets[:, mesh.boundaries["block_top"]])].mean()
+    return float((sign * (ux[face] - base)).max())
+
+
+def tilted_push(tilts) -> list[dict]:
+    """The 80 mm rim pushed by the slider as the law's push is (Eq. F71, the median criterion,
+    its increments), but turned by each of ``tilts`` [deg] off its path: where the rim first
+    tears, and the push's peak force."""
+    from unittest import mock
+
+    from fem import slider_push
+    from validation.studies.rim_slider_push import INCREMENT, N
+
+    bearing = DFPBearing(rim_thickness=0.08)
+    reach = bearing.rim_thickness + bearing.rim_height
+    path = slider_push.slider_pose
+    rows = []
+    for tilt in tilts:
+        def pose(b, angle, tilt=tilt):  # the path's pose, turned by the tilt
+            return path(b, angle) + np.array([0.0, 0.0, math.radians(tilt)])
+
+        with mock.patch.object(slider_push, "slider_pose", pose):
+            p = slider_push.rim_slider_push(bearing, displacement=reach,
+                                            steps=round(reach / INCREMENT), fracture="median",
+                                            erosion_steps=N, stop_short=True)
+        k = int(p.force.argmax())
+        torn = p.fracture_displacement is not None
+        rows.append({"tilt_deg": tilt, "peak_force_mn": float(p.force[k]) / 1e6,
+                     "peak_displacement_mm": p.displacement[k] * 1e3,
+                     "tear_displacement_mm": p.fracture_displacement * 1e3 if torn else math.nan,
+                     "tear_force_mn": float(p.fracture_force) / 1e6 if torn else math.nan,
+                     "pushed_to_mm": float(p.displacement[-1]) * 1e3})
         print(rows[-1], flush=True)
     return rows
 
@@ -132,7 +217,12 @@ def main(argv=None) -> None:
     p.add_argument("--out", type=Path, default=RESULTS)
     p.add_argument("--pose", nargs="+", metavar="RECORD:PRESSURE:SA",
                    help="make these FE runs of the 80 mm validation again to their first tear")
+    p.add_argument("--tilt", nargs="+", type=float, metavar="DEG",
+                   help="push the 80 mm rim with the slider turned this far off its path")
     args = p.parse_args(argv)
+    if args.tilt:
+        write_csv(tilted_push(args.tilt), args.out / "tearing_onset_tilt.csv")
+        return
     motions = fema_p695("nearfield_pulse")
     if args.pose:
         cases = [(c.split(":")[0], int(c.split(":")[1]), float(c.split(":")[2]))
