@@ -54,6 +54,29 @@ PUNCH = {40.0: ("face", None), 80.0: ("slider", 0.02)}
 EARLIER = 0.9
 
 
+def validation(thickness: float):
+    """The containment validation with tearing at ``thickness`` [mm]: its folder, its settings
+    (:func:`validation.studies.fem_validation_status.run_settings`) and its rims' laws by
+    pressure [MPa], the store's."""
+    folder = FOLDERS[thickness]
+    punch, edge = PUNCH[thickness]
+    settings = run_settings(["containment"], None if thickness == 40.0 else thickness,
+                            "median", 20.0, punch)
+    with ResultStore(folder / "results.sqlite") as store:
+        laws = {p: stored_rim_law(store, settings.bearing_at(p * 1e6), fracture="median",
+                                  edge_radius=edge) for p in (60, 10)}
+    return folder, settings, laws
+
+
+def rigid_run(bearing, motion, scale: float, law, limit_state: str):
+    """The rigid model with yielding rims on ``motion`` scaled by ``scale``, run as a ladder's
+    rung is (the record and 20 s after it, stopped when quiet)."""
+    return simulate(bearing, motion.acceleration * scale, motion.dt,
+                    duration=(motion.acceleration.size - 1) * motion.dt + 20.0,
+                    rims="yielding", limit_state=limit_state, rim_law=law,
+                    stop_when_quiet=True, on_instability="refine")
+
+
 def fe_tearing(out: Path, settings, motions) -> dict:
     """(record name, pressure [MPa]) → the SAs [g] of the stored FE runs, each with whether a
     rim tore in it (its rupture time is set)."""
@@ -81,10 +104,7 @@ def case_row(thickness, motion, pressure, runs, law, settings, table_row) -> dic
            "law_rupture_set_mm": law.rupture_set * 1e3}
     row["fe_tore_over_rigid_rupture"] = row["fe_tore_at_g"] / row["rigid_rupture_sa_g"]
     if torn:  # the rigid model at the SA where the FE rim first tore
-        r = simulate(bearing, motion.acceleration * (tore_at * G / ladder.record_sa), motion.dt,
-                     duration=(motion.acceleration.size - 1) * motion.dt + 20.0,
-                     rims="yielding", limit_state="rupture", rim_law=law,
-                     stop_when_quiet=True, on_instability="refine")
+        r = rigid_run(bearing, motion, tore_at * G / ladder.record_sa, law, "rupture")
         row["rigid_max_set_mm_at_fe_tear"] = float(r.rim_set.max()) * 1e3
         row["rigid_max_uplift_mm_at_fe_tear"] = r.max_uplift * 1e3
     return row
@@ -101,12 +121,7 @@ def pose_at_tear(cases, motions) -> list[dict]:
     import fem
     from validation.fem_runs import fem_run
 
-    thickness = 80.0
-    folder = FOLDERS[thickness]
-    settings = run_settings(["containment"], thickness, "median", 20.0, PUNCH[thickness][0])
-    with ResultStore(folder / "results.sqlite") as store:
-        laws = {p: stored_rim_law(store, settings.bearing_at(p * 1e6), fracture="median",
-                                  edge_radius=PUNCH[thickness][1]) for p in (60, 10)}
+    folder, settings, laws = validation(80.0)
     rows, made = [], []
 
     def keep(*args, **options):  # fem_run's stand-in for fem.simulate: keeps the result
@@ -124,11 +139,8 @@ def pose_at_tear(cases, motions) -> list[dict]:
         tear = stopped["limit_states"]["rupture"]  # [s from the record's start]
         if abs(r.time[-1] + stopped["start"] - tear) > 1e-6:  # the run ends at its tear
             raise RuntimeError(f"{motion.name}: the FE run did not stop at its first tear")
-        rigid = simulate(settings.bearing_at(pressure * 1e6),
-                         motion.acceleration * kwargs["scale"], motion.dt,
-                         duration=(motion.acceleration.size - 1) * motion.dt + 20.0,
-                         rims="yielding", limit_state="containment", rim_law=laws[pressure],
-                         stop_when_quiet=True, on_instability="refine")
+        rigid = rigid_run(settings.bearing_at(pressure * 1e6), motion, kwargs["scale"],
+                          laws[pressure], "containment")
         arm = r.bearing.radius - r.bearing.slider_height / 2  # the path's radius (Eq. F71)
         x, d, rotation = r.slider_displacement[-1], r.displacement[-1], r.slider_rotation[-1]
         bottom = math.asin(x / arm)  # concentric with the bottom dish; the top: x − d = −arm sin
@@ -234,16 +246,11 @@ def main(argv=None) -> None:
         table = validation_table(folder)
         if table is None:
             continue
-        punch, edge = PUNCH[thickness]
-        settings = run_settings(["containment"], None if thickness == 40.0 else thickness,
-                                "median", 20.0, punch)
+        _, settings, laws = validation(thickness)
         finished = {(r["record"], round(float(r["pressure_mpa"]))): r
                     for r in read_csv(folder / table[0])
                     if table[1] or r["finished"] == "True"}
         runs = fe_tearing(folder, settings, motions)
-        with ResultStore(folder / "results.sqlite") as store:
-            laws = {p: stored_rim_law(store, settings.bearing_at(p * 1e6), fracture="median",
-                                      edge_radius=edge) for p in (60, 10)}
         for motion in motions:
             for pressure in (60, 10):
                 if (motion.name, pressure) in finished:
