@@ -13,7 +13,7 @@ sizes at the rim (docs/theory/finite-elements.md, Eqs. F51–F52).
 Writes ``docs/results/rupture_mesh.csv`` (the 40 mm rim) or ``rupture_mesh_T.csv`` (a rim T mm
 thick, ``--rim-thickness T``).
 
-Run (about two minutes at 40 mm; ten with ``--rim-thickness 160 --slider``)::
+Run (about two minutes of CPU at 40 mm; sixteen for the 160 mm rim with ``--slider``)::
 
     python -m validation.studies.rupture_mesh [--rim-thickness 160 --rim-sizes 20 10 5 --slider]
 """
