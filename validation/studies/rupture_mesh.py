@@ -56,6 +56,7 @@ def force_at(push, delta: float) -> float:
 
 
 def face_row(bearing: DFPBearing, size: float) -> dict:
+    """The face push on rim elements of ``size`` [m]: one CSV row."""
     t0 = time.process_time()
     push = rim_pushover(bearing, mesh_options={"rim_size": size}, stop_short=True)
     return {
@@ -74,6 +75,8 @@ def face_row(bearing: DFPBearing, size: float) -> dict:
 
 
 def slider_row(bearing: DFPBearing, size: float) -> dict:
+    """The slider's push through tearing on rim elements of ``size`` [m], as
+    :func:`fem.rim_law` makes it for a law through tearing: the CSV row's slider columns."""
     from fem.slider_push import rim_slider_push
 
     t0 = time.process_time()
@@ -96,8 +99,9 @@ def slider_row(bearing: DFPBearing, size: float) -> dict:
 
 
 def main() -> None:
+    baseline = DFPBearing().rim_thickness * 1e3  # [mm]
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--rim-thickness", type=float, default=40.0, help="rim thickness [mm]")
+    ap.add_argument("--rim-thickness", type=float, default=baseline, help="rim thickness [mm]")
     ap.add_argument("--rim-sizes", type=float, nargs="+", help="element sizes at the rim "
                     "[mm]; default 20, 10, 5 and 2.5")
     ap.add_argument("--slider", action="store_true", help="also the slider's push through "
@@ -115,7 +119,7 @@ def main() -> None:
         print(rows[-1], flush=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    name = ("rupture_mesh.csv" if args.rim_thickness == 40.0
+    name = ("rupture_mesh.csv" if args.rim_thickness == baseline
             else f"rupture_mesh_{args.rim_thickness:g}.csv")
     write_csv(rows, out / name)
     print(f"wrote {out / name}")
