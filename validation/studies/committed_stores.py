@@ -39,6 +39,10 @@ REPLAYABLE = {
                            "--stop", "3"],
     "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
                                 "--fem-edge-radius", "20"],
+    # its law was pushed on another machine: carried over with --keep-stored-laws
+    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
+                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
+                                       "--rim-punch", "slider"],
     **{f"fem-validation-fracture-sensitivity/{name}": [
         "--records", "8", "--pressure", "60", "--limit-state", "containment",
         "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
@@ -47,11 +51,7 @@ REPLAYABLE = {
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
 #: as far as their store goes only when named (``--only``), since the command then goes on
 #: with the run (hours).
-UNFINISHED = {
-    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
-                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
-                                       "--rim-punch", "slider"],
-}
+UNFINISHED: dict[str, list[str]] = {}
 
 #: Stores that no code of today reaches (their keys changed with the inputs, not only the
 #: code, so ``--rekey-from`` cannot carry them): folder under docs/ → the command that remakes
@@ -117,8 +117,9 @@ def main(argv=None) -> int:
                       help=f"remake these stale stores from scratch, in this order (hours; "
                       f"{', '.join(STALE)})")
     p.add_argument("--only", nargs="+", choices=[*finished, *UNFINISHED], metavar="FOLDER",
-                   help=f"these folders only (default: {', '.join(finished)}; an unfinished "
-                   f"one, {', '.join(UNFINISHED)}, then goes on with its run)")
+                   help=f"these folders only (default: {', '.join(finished)}"
+                   + (f"; an unfinished one, {', '.join(UNFINISHED)}, then goes on with its run)"
+                      if UNFINISHED else ")"))
     p.add_argument("--keep-stored-laws", action="store_true",
                    help="carry the stores' rim laws over even where today's push differs "
                    "(--keep-stored-laws of dfp validate and of the design space)")
