@@ -15,7 +15,10 @@ With ``--pose RECORD:PRESSURE:SA ...`` (the start of a record's name, MPa, g; th
 validation's stored runs), those FE runs are made again, stopped at the first tear, and the
 slider's pose there is set against its pendulum path, the path the law's push holds it to (Eq.
 F71): its rotation less the path angle on each dish, its rise above the bottom dish's path,
-the largest rim force, and how far the torn rim's face has moved out
+the largest rim force, and how far the torn rim's face and its partner's (the other plate's
+rim on the other side, loaded in series by the same impact) have moved out, beside the rigid
+model's sets of the same two rims at that instant, and where each model's energy balance put
+the kinetic energy the tearing impact brought
 (``docs/results/tearing_onset_pose.csv``; a few minutes of CPU a run). With ``--tilt DEG ...``
 the 80 mm rim is pushed as for its law, but with the slider turned that far off its path
 (``docs/results/tearing_onset_tilt.csv``; about a minute a push).
@@ -40,6 +43,7 @@ import numpy as np
 from rigid import DFPBearing, G, fema_p695, simulate
 from rigid.collapse import critical_sa
 from rigid.collapse.comparison import write_csv
+from rigid.model import RIM_NAMES
 from rigid.tasks import ResultStore
 from validation.stored_rim_laws import stored_rim_law
 
@@ -68,13 +72,14 @@ def validation(thickness: float):
     return folder, settings, laws
 
 
-def rigid_run(bearing, motion, scale: float, law, limit_state: str):
+def rigid_run(bearing, motion, scale: float, law, limit_state: str, until=None):
     """The rigid model with yielding rims on ``motion`` scaled by ``scale``, run as a ladder's
-    rung is (the record and 20 s after it, stopped when quiet)."""
+    rung is (the record and 20 s after it, stopped when quiet), or to ``until`` [s]."""
+    full = (motion.acceleration.size - 1) * motion.dt + 20.0
     return simulate(bearing, motion.acceleration * scale, motion.dt,
-                    duration=(motion.acceleration.size - 1) * motion.dt + 20.0,
-                    rims="yielding", limit_state=limit_state, rim_law=law,
-                    stop_when_quiet=True, on_instability="refine")
+                    duration=full if until is None else until, rims="yielding",
+                    limit_state=limit_state, rim_law=law, stop_when_quiet=until is None,
+                    on_instability="refine")
 
 
 def fe_tearing(out: Path, settings, motions) -> dict:
@@ -139,16 +144,27 @@ def pose_at_tear(cases, motions) -> list[dict]:
         tear = stopped["limit_states"]["rupture"]  # [s from the record's start]
         if abs(r.time[-1] + stopped["start"] - tear) > 1e-6:  # the run ends at its tear
             raise RuntimeError(f"{motion.name}: the FE run did not stop at its first tear")
-        rigid = rigid_run(settings.bearing_at(pressure * 1e6), motion, kwargs["scale"],
-                          laws[pressure], "containment")
+        bearing = settings.bearing_at(pressure * 1e6)
+        rigid = rigid_run(bearing, motion, kwargs["scale"], laws[pressure], "containment")
+        to_tear = rigid_run(bearing, motion, kwargs["scale"], laws[pressure], "containment",
+                            until=tear)
+        sets = dict(zip(RIM_NAMES, to_tear.rim_sets, strict=True))
+        fe_energy = impact_energy(r.time + stopped["start"], r.rim_force.sum(axis=1), tear,
+                                  r.energy, {"kinetic": "kinetic", "plastic": "plastic",
+                                             "hht": "residual"})
+        rigid_energy = impact_energy(to_tear.time, to_tear.rim_force, tear, to_tear.energy,
+                                     {"kinetic": "kinetic", "plastic": "plastic",
+                                      "damper": "impact", "potential": "potential"})
+        rim = first_torn_rim(r)
         arm = r.bearing.radius - r.bearing.slider_height / 2  # the path's radius (Eq. F71)
         x, d, rotation = r.slider_displacement[-1], r.displacement[-1], r.slider_rotation[-1]
         bottom = math.asin(x / arm)  # concentric with the bottom dish; the top: x − d = −arm sin
         upto = rigid.time <= tear
         fe_rise = rise_above_path(r.slider_rise, r.slider_displacement, arm)
         rigid_rise = rise_above_path(rigid.slider_rise, rigid.slider_displacement, arm)
+        k = min(np.searchsorted(rigid.time, tear), rigid.time.size - 1)
         rows.append({"record": motion.name, "pressure_mpa": pressure, "sa_g": round(sa, 3),
-                     "first_tear_s": tear, "rim": first_torn_rim(r),
+                     "first_tear_s": tear, "rim": rim,
                      "rotation_off_bottom_path_deg": math.degrees(rotation - bottom),
                      "rotation_off_top_path_deg": math.degrees(rotation + math.asin((x - d) / arm)),
                      "fe_rise_above_path_mm": float(fe_rise[-1]) * 1e3,
@@ -158,8 +174,19 @@ def pose_at_tear(cases, motions) -> list[dict]:
                      # the normal forces on all four rims, summed (the rigid model's rim_force)
                      "fe_max_rim_force_mn": float(r.rim_force.sum(axis=1).max()) / 1e6,
                      "rigid_max_rim_force_mn": float(rigid.rim_force[upto].max()) / 1e6,
-                     "fe_torn_rim_face_set_mm": face_set(r, first_torn_rim(r)) * 1e3,
-                     "rigid_largest_set_mm": float(rigid.rim_set[upto].max()) * 1e3})
+                     "fe_torn_rim_face_set_mm": face_set(r, rim) * 1e3,
+                     "rigid_largest_set_mm": float(rigid.rim_set[upto].max()) * 1e3,
+                     # the rigid slider against the bottom dish's path at the FE tear
+                     "rigid_rotation_off_bottom_path_deg": math.degrees(
+                         rigid.slider_rotation[k]
+                         - math.asin(rigid.slider_displacement[k] / arm)),
+                     # the impact's two rims in series: the torn one and the other plate's
+                     # rim on the other side (its partner), in each model at the FE tear
+                     "fe_partner_face_set_mm": face_set(r, partner(rim)) * 1e3,
+                     "rigid_torn_rim_set_mm": sets[rim] * 1e3,
+                     "rigid_partner_set_mm": sets[partner(rim)] * 1e3,
+                     **{f"fe_{k}": v for k, v in fe_energy.items()},
+                     **{f"rigid_{k}": v for k, v in rigid_energy.items()}})
         print(rows[-1], flush=True)
     return rows
 
@@ -168,6 +195,27 @@ def rise_above_path(rise, x, arm):
     """The slider's rise above its pendulum path on the bottom dish [m] (Eq. F71): its rise
     less arm·(1 − cos θ), sin θ = x/arm."""
     return rise - arm * (1.0 - np.cos(np.arcsin(np.clip(x / arm, -1.0, 1.0))))
+
+
+def impact_energy(time, rim_force, tear: float, energy, names) -> dict:
+    """Where the impact in which a rim tore at ``tear`` [s] put its energy, by a model's
+    energy balance (``names``: column label → its field): the kinetic energy at the impact's
+    start (the last sample up to the tear with under 1 kN on the rims together) and the change
+    of the others from there to the tear [kJ]. ``time`` [s from the record's start],
+    ``rim_force`` [N] the rims' force together. The changes are zero if no impact is under way
+    then."""
+    k0 = int(np.nonzero((time <= tear) & (rim_force < 1e3))[0][-1])
+    k1 = min(int(np.searchsorted(time, tear)), time.size - 1)
+    series = {label: getattr(energy, name) for label, name in names.items()}
+    return {f"impact_{name}_kj": float(e[k0] if name == "kinetic" else e[k1] - e[k0]) / 1e3
+            for name, e in series.items()}
+
+
+def partner(rim: str) -> str:
+    """The rim loaded in series with ``rim`` by one impact: the other plate's, on the other
+    side ("top -x" → "bottom +x")."""
+    plate, side = rim.split()
+    return f"{'top' if plate == 'bottom' else 'bottom'} {'+x' if side == '-x' else '-x'}"
 
 
 def first_torn_rim(r) -> str:
