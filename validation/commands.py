@@ -298,7 +298,7 @@ def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
 
-    from rigid.tasks import MissingResultsError, ResultStore
+    from rigid.tasks import MissingResultsError
     from validation.fem_search import FESettings
     from validation.report import write_report
     from validation.run import Settings, run_validation
@@ -342,27 +342,7 @@ def validate(args) -> int:
     rim_fracture = args.rim_fracture or (
         args.fem_fracture if fem is not None and args.rim_model == "plane-strain" else None)
     slider_edges = _rim_punch_edges(args, rim_fracture)
-    laws = ([args.rim_model] if "yielding" in args.rims else []) + (
-        ["ring", "plane-strain"] if args.rim_model == "ring" and fem is not None else [])
-    if laws:  # the rim laws the run uses, kept in its store (replayable elsewhere)
-        from rigid.tasks.rekey import RekeyError
-
-        from .stored_rim_laws import carry_rim_laws, keep_rim_laws
-
-        pushed = DFPBearing(**dict(bearing))
-        which = {"fracture": rim_fracture if "yielding" in args.rims else None,
-                 "edge_radius": slider_edges}
-        try:
-            with ResultStore(out / "results.sqlite") as store:
-                if args.rekey_from:
-                    for line in carry_rim_laws(store, pushed, laws, args.rekey_from,
-                                               keep_differing=args.keep_stored_laws, **which):
-                        print(f"--rekey-from {args.rekey_from}: {line}")
-                keep_rim_laws(store, pushed, laws, replay=args.replay, **which)
-        except MissingResultsError as exc:
-            raise CommandError(str(exc)) from None
-        except RekeyError as exc:
-            raise CommandError(f"--rekey-from {args.rekey_from}: {exc}") from None
+    _store_rim_laws(args, out, bearing, rim_fracture, slider_edges, fem is not None)
     if args.rim_model == "ring" and fem is not None:
         fem = dataclasses.replace(fem, rim_depth=_ring_depth(bearing, fem.limit_states))
     settings = Settings(
@@ -394,6 +374,46 @@ def validate(args) -> int:
                                               worker_wait=args.worker_wait, replay=args.replay)
     except MissingResultsError as exc:
         raise CommandError(f"--replay: {exc}") from None
+    _print_summary(results, fem_results, settings)
+    path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
+                        title="DFP bearing failure: validation run", record_set=label,
+                        fem=fem_results)
+    print(f"report: {path}")
+    return 0
+
+
+def _store_rim_laws(args, out: Path, bearing: tuple, rim_fracture, slider_edges,
+                    with_fem: bool) -> None:
+    """The rim laws the run uses, pushed (or carried over with ``--rekey-from``) and kept in
+    its store, so that the run replays elsewhere (:mod:`validation.stored_rim_laws`)."""
+    laws = ([args.rim_model] if "yielding" in args.rims else []) + (
+        ["ring", "plane-strain"] if args.rim_model == "ring" and with_fem else [])
+    if not laws:
+        return
+    from rigid.tasks import MissingResultsError, ResultStore
+    from rigid.tasks.rekey import RekeyError
+
+    from .stored_rim_laws import carry_rim_laws, keep_rim_laws
+
+    pushed = DFPBearing(**dict(bearing))
+    which = {"fracture": rim_fracture if "yielding" in args.rims else None,
+             "edge_radius": slider_edges}
+    try:
+        with ResultStore(out / "results.sqlite") as store:
+            if args.rekey_from:
+                for line in carry_rim_laws(store, pushed, laws, args.rekey_from,
+                                           keep_differing=args.keep_stored_laws, **which):
+                    print(f"--rekey-from {args.rekey_from}: {line}")
+            keep_rim_laws(store, pushed, laws, replay=args.replay, **which)
+    except MissingResultsError as exc:
+        raise CommandError(str(exc)) from None
+    except RekeyError as exc:
+        raise CommandError(f"--rekey-from {args.rekey_from}: {exc}") from None
+
+
+def _print_summary(results: dict, fem_results: dict, settings) -> None:
+    """The console's lines on a finished validation: per pressure, how many records fail
+    below the ladder's top (a warning for uncertain ones), and each FE search's answer."""
     for pressure, res in results.items():
         failed = sum(a.sa is not None for a in res.actual)
         numerical = [a for a in res.actual if a.numerical_failures]
@@ -418,11 +438,6 @@ def validate(args) -> int:
             flag += ", UNCERTAIN" if r.uncertain else ""
             print(f"  FE {pressure / 1e6:g} MPa {r.name} ({r.limit_state}): critical SA {sa}; "
                   f"rigid {rigid_sa}; {r.runs} FE runs{flag}")
-    path = write_report(results, motions, settings, out, elapsed=time.perf_counter() - start,
-                        title="DFP bearing failure: validation run", record_set=label,
-                        fem=fem_results)
-    print(f"report: {path}")
-    return 0
 
 
 def _rekey(revision: str, motions, settings, out: Path) -> None:
