@@ -119,8 +119,8 @@ def pose_at_tear(cases, motions) -> list[dict]:
     """The FE runs of the 80 mm validation named by ``cases`` ((record start, pressure [MPa],
     SA [g])) made again to their first tear, each beside the rigid model's run of the same
     scaled record with the run's law: the slider's pose at the tear against its path, how far
-    the superstructure has travelled, how far the torn rim's face has moved out (module
-    docstring)."""
+    the superstructure has travelled, how far the torn rim and its partner have moved out, and
+    where the tearing impact's energy went (module docstring)."""
     from threadpoolctl import threadpool_limits
 
     import fem
@@ -162,7 +162,7 @@ def pose_at_tear(cases, motions) -> list[dict]:
         upto = rigid.time <= tear
         fe_rise = rise_above_path(r.slider_rise, r.slider_displacement, arm)
         rigid_rise = rise_above_path(rigid.slider_rise, rigid.slider_displacement, arm)
-        k = min(np.searchsorted(rigid.time, tear), rigid.time.size - 1)
+        at_tear = min(np.searchsorted(rigid.time, tear), rigid.time.size - 1)
         rows.append({"record": motion.name, "pressure_mpa": pressure, "sa_g": round(sa, 3),
                      "first_tear_s": tear, "rim": rim,
                      "rotation_off_bottom_path_deg": math.degrees(rotation - bottom),
@@ -178,8 +178,8 @@ def pose_at_tear(cases, motions) -> list[dict]:
                      "rigid_largest_set_mm": float(rigid.rim_set[upto].max()) * 1e3,
                      # the rigid slider against the bottom dish's path at the FE tear
                      "rigid_rotation_off_bottom_path_deg": math.degrees(
-                         rigid.slider_rotation[k]
-                         - math.asin(rigid.slider_displacement[k] / arm)),
+                         rigid.slider_rotation[at_tear]
+                         - math.asin(rigid.slider_displacement[at_tear] / arm)),
                      # the impact's two rims in series: the torn one and the other plate's
                      # rim on the other side (its partner), in each model at the FE tear
                      "fe_partner_face_set_mm": face_set(r, partner(rim)) * 1e3,
