@@ -41,9 +41,9 @@ about 1 minute per value; part 5 about 5 minutes; part 6 about 5 minutes per rep
 
 from __future__ import annotations
 
+import argparse
 import os
 import platform
-import sys
 import tempfile
 import time
 
@@ -206,28 +206,32 @@ def past_hinge_set(cache: str) -> None:
           f"{total['finite'] / total['small']:.2f} (load {os.getloadavg()[0]:.1f})")
 
 
-def main() -> None:
-    quick = "--quick" in sys.argv
-    repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="skip the 0.3 g run")
+    ap.add_argument("--repeat", type=int, default=3, help="timed runs of each case")
+    part = ap.add_mutually_exclusive_group()
+    part.add_argument("--kinematics", action="store_true", help="part 3 alone")
+    part.add_argument("--tearing", action="store_true", help="part 6 alone")
+    part.add_argument("--past-hinge-set", action="store_true", help="part 5 alone")
+    part.add_argument("--active-gradient", type=float, nargs="+", metavar="G",
+                      help="part 4 alone, at these thresholds [-]")
+    args = ap.parse_args(argv)
+    quick, repeat = args.quick, args.repeat
     print(f"python {platform.python_version()}, {platform.machine()}, numpy {np.__version__}, "
           f"{os.cpu_count()} cores, OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS')}")
     with tempfile.TemporaryDirectory() as cache:
-        if "--kinematics" in sys.argv:
+        if args.kinematics:
             kinematics_comparison(cache, repeat)
             return
-        if "--tearing" in sys.argv:
+        if args.tearing:
             tearing_comparison(cache, repeat)
             return
-        if "--past-hinge-set" in sys.argv:
+        if args.past_hinge_set:
             past_hinge_set(cache)
             return
-        if "--active-gradient" in sys.argv:
-            thresholds = []
-            for v in sys.argv[sys.argv.index("--active-gradient") + 1:]:
-                if v.startswith("--"):
-                    break
-                thresholds.append(float(v))
-            threshold_comparison(cache, repeat, thresholds)
+        if args.active_gradient:
+            threshold_comparison(cache, repeat, args.active_gradient)
             return
         print("\nCPU time per Newton iteration at the gravity equilibrium (median of 7):")
         print(f"{'mesh':45s} {'dofs':>7s} {'ms (solver)':>12s} {'ms (direct LU)':>15s}")

@@ -11,6 +11,7 @@ where both run to the end).
 
 from __future__ import annotations
 
+import argparse
 import os
 import platform
 import statistics
@@ -43,10 +44,12 @@ def cases():
             "pulse 0.16 g, 3 s, impacts": bent}
 
 
-def main() -> None:
-    options = {}
-    if "--rims" in sys.argv and sys.argv[sys.argv.index("--rims") + 1] == "yielding":
-        options = {"rims": "yielding", "limit_state": "containment"}
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--rims", choices=("rigid", "yielding"), default="rigid",
+                    help="the rim model (yielding: limit state containment, a fourth input)")
+    options = ({"rims": "yielding", "limit_state": "containment"}
+               if ap.parse_args(argv).rims == "yielding" else {})
     first = float(subprocess.check_output([sys.executable, "-c", FIRST_CALL], text=True))
     machine = platform.processor() or platform.machine()
     print(f"machine: {machine}, Python {platform.python_version()}")
