@@ -116,9 +116,11 @@ class Energy:
     contact: list = field(default_factory=list)  # penalty springs
     friction: list = field(default_factory=list)
     fracture: list = field(default_factory=list)  # released by torn elements (Eq. F69)
+    loose_kinetic: list = field(default_factory=list)  # part of kinetic (Eq. F69b)
 
     def arrays(self) -> dict:
-        """The histories as numpy arrays, plus ``residual`` = input − all the others."""
+        """The histories as numpy arrays, plus ``residual`` = input − all the others
+        (``loose_kinetic`` is part of ``kinetic``, not another term)."""
         out = {k: np.asarray(v) for k, v in self.__dict__.items()}
         out["residual"] = out["input"] - (
             out["kinetic"] + out["strain"] + out["plastic"] + out["contact"] + out["friction"]
@@ -241,6 +243,7 @@ class Integrator:
         self.rejected = 0
         self.steps = 0
         self.solver = TangentSolver(self.system, self.red, self.M)
+        self.loose = np.zeros(self.M.size, dtype=bool)  # reduced dofs of loose material
 
     def external(self, t: float) -> np.ndarray:
         """f_ext(t) = g − M r a_g(t), reduced [N/m]."""
@@ -358,7 +361,7 @@ class Integrator:
         cont0 = ev.contact.normal_energy
         self.released = Released()
         times = [t_start]
-        self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
+        self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0, v)
         stopped = False
         failed = False
         message = ""
@@ -415,7 +418,7 @@ class Integrator:
             times.append(t)
             if self.fracture is not None:
                 ev, f_int, f_mat = self._tear(t, d, ev, state, f_int, f_mat)
-            self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0)
+            self._record(energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0, v)
             if self.rim_mask is not None:
                 rim_active = bool(ev.contact.active[self.rim_mask].any())
             if observer is not None and observer(t, self.red.expand(d), ev, state):
@@ -449,9 +452,12 @@ class Integrator:
         self.released.strain += strain - sysm.strain_energy(ev)
         self.released.penalty += penalty - ev.contact.normal_energy
         self.solver.thaw()  # the frozen tangents of Eq. F35a may have let go
+        full = np.zeros(sysm.size)
+        full[sysm.loose_dofs] = 1.0
+        self.loose = self.red.reduce(full) > 0.0
         return ev, self.red.reduce(ev.internal_force), self.red.reduce(ev.material_force)
 
-    def _record(self, energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0):
+    def _record(self, energy, w_ext, ekin, w_mat, w_fric, ev, strain0, cont0, v):
         strain = self.system.strain_energy(ev) - strain0
         contact = ev.contact.normal_energy - cont0
         energy.input.append(w_ext)
@@ -461,3 +467,5 @@ class Integrator:
         energy.contact.append(contact)
         energy.friction.append(w_fric)
         energy.fracture.append(self.released.total)
+        loose = self.loose
+        energy.loose_kinetic.append(0.5 * float(self.M[loose] @ (v[loose] * v[loose])))

@@ -42,8 +42,12 @@ class FEEnergy(Mapping):
     fracture : ndarray [J]
         Strain and penalty energy released by torn rim elements as they let go (Eq. F69; 0
         without ``fracture``).
+    loose_kinetic : ndarray [J]
+        The part of ``kinetic`` in material that no element holds any more, falling free of
+        the bearing (Eq. F69b; 0 without ``fracture``).
     residual : ndarray [J]
-        input − all the others: HHT's algorithmic dissipation plus the work sums' error.
+        input − all the others but ``loose_kinetic``: HHT's algorithmic dissipation plus the
+        work sums' error.
     """
 
     input: np.ndarray
@@ -53,6 +57,7 @@ class FEEnergy(Mapping):
     contact: np.ndarray
     friction: np.ndarray
     fracture: np.ndarray
+    loose_kinetic: np.ndarray
     residual: np.ndarray
 
     def __getitem__(self, key: str) -> np.ndarray:

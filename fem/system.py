@@ -123,7 +123,8 @@ class CoupledSystem:
         """Let the elements keep the fractions ``retained`` (nelems,) [-] of their stiffness
         and stress (Eq. F68, finite kinematics); a contact node keeps the largest fraction
         among its elements of its tributary length, so that a torn rim's surface leaves the
-        contact (its nodes are gone when all their elements are)."""
+        contact (its nodes are gone when all their elements are). The plate dofs of the
+        vertices that no element holds any more are kept in :attr:`loose_dofs` (Eq. F69b)."""
         if not self.finite:
             raise ValueError("erosion needs finite kinematics")
         retained = np.asarray(retained, dtype=float)
@@ -134,6 +135,8 @@ class CoupledSystem:
             np.maximum.at(keep, corner, retained)
         nodes = self._intact_nodes
         self.nodes = replace(nodes, length=nodes.length * keep[nodes.nodes])
+        # the dofs of the vertices no element holds any more: loose material (Eq. F69b)
+        self.loose_dofs = self.fe.basis.nodal_dofs[:, keep == 0.0].ravel()
 
     def initial_state(self) -> State:
         """Virgin material and friction history."""

@@ -426,7 +426,7 @@ def test_fem_run_hands_fracture_and_edges_to_the_model(fracture):
             time=t, steps=3, newton_iterations=9, dofs=905, max_plastic_strain=0.3,
             rim_force=np.ones(3), torn_elements={7: (0.5, 1), 8: (0.51, 1)},
             energy={k: np.zeros(t.size) + (2.5 if k == "fracture" else 0.0)
-                    for k in ("kinetic", "strain", "contact", "fracture")},
+                    for k in ("kinetic", "loose_kinetic", "strain", "contact", "fracture")},
             bearing=bearing, top_plate_rise=np.zeros(t.size), slider_rise=np.zeros(t.size))
 
     dt = 0.01
