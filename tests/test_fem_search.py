@@ -10,6 +10,7 @@ import pytest
 import rigid
 from rigid import DFPBearing, G
 from rigid.collapse.trimming import critical_sa_trimmed, sliding_threshold, strong_motion_window
+from rigid.model import reach_energy
 from rigid.tasks.store import ResultStore
 from validation.fem_search import BracketBisect, FESettings, decides, run_fem_searches
 
@@ -439,3 +440,38 @@ def test_fem_run_hands_fracture_and_edges_to_the_model(fracture):
         assert out["torn_elements"] == 2 and out["fracture_energy"] == 2.5
     else:
         assert "edge_radius" not in seen[-1] and "torn_elements" not in out
+
+
+@pytest.mark.parametrize(("falling", "runs"), [(True, 1), (False, 2)])
+def test_falling_pieces_do_not_keep_a_run_from_being_quiet(falling, runs):
+    """A run that survives with twice the reach energy left at its guessed end is made again
+    to the record's end, unless that energy is the kinetic energy of torn-off pieces falling
+    free of the bearing (Eq. F69b): then it is quiet after one run, and ``energy_end`` still
+    reports all of it. A stand-in model that survives; ``trim="end"`` guesses the end."""
+    import dataclasses
+
+    from validation.fem_runs import fem_run
+
+    bearing = DFPBearing()
+    reach = reach_energy(bearing)
+    calls = []
+
+    def model(b, a, dt, duration, **kw):
+        calls.append(duration)
+        t = np.linspace(0.0, duration, 50)
+        kinetic = np.full(t.size, 2.0 * reach)
+        return SimpleNamespace(
+            failed=False, failure_mode=None, failure_time=None, numerical_failure=False,
+            failure_detail=None, limit_states=dict.fromkeys(("hinge", "rupture",
+                                                             "containment")),
+            time=t, steps=3, newton_iterations=9, dofs=905, max_plastic_strain=0.0,
+            rim_force=np.zeros((t.size, 4)),
+            energy={"kinetic": kinetic, "loose_kinetic": kinetic if falling else 0 * kinetic,
+                    "strain": 0 * t, "contact": 0 * t},
+            bearing=b, top_plate_rise=0 * t, slider_rise=0 * t)
+
+    dt = 0.01
+    a = np.where(np.arange(0.0, 8.0, dt) < 3.0, 2.0 * np.sin(np.arange(0.0, 8.0, dt) * np.pi), 0.0)
+    out = fem_run(dataclasses.asdict(bearing), a, dt, 1.0, trim="end", simulate=model)
+    assert out["runs"] == runs == len(calls) and out["quiet"] is falling
+    assert out["energy_end"] == pytest.approx(2.0 * reach)
