@@ -41,10 +41,6 @@ REPLAYABLE = {
                            "--stop", "3"],
     "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
                                 "--fem-edge-radius", "20"],
-    # its law was pushed on another machine: carried over with --keep-stored-laws
-    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
-                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
-                                       "--rim-punch", "slider"],
     **{f"fem-validation-fracture-sensitivity/{name}": [
         "--records", "8", "--pressure", "60", "--limit-state", "containment",
         "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
@@ -53,7 +49,15 @@ REPLAYABLE = {
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
 #: as far as their store goes only when named (``--only``), since the command then goes on
 #: with the run (hours).
-UNFINISHED: dict[str, list[str]] = {}
+UNFINISHED: dict[str, list[str]] = {
+    # finished 2026-11-28; its 46 surviving runs that were made twice by the quiet test
+    # before Eq. F69b were removed from the store on 2026-11-28 and are being made again
+    # (its README); its law was pushed on another machine: carried over with
+    # --keep-stored-laws
+    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
+                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
+                                       "--rim-punch", "slider"],
+}
 
 #: Stores that no code of today reaches (their keys changed with the inputs, not only the
 #: code, so ``--rekey-from`` cannot carry them): folder under docs/ → the command that remakes
