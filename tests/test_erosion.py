@@ -205,16 +205,21 @@ def test_bad_fracture_options_are_refused(heavy):
         fem.simulate(heavy, a, 0.01, fracture="median", kinematics="small")
 
 
-@pytest.fixture(scope="module")
-def tearing_run(mesh_cache, heavy):
+def _pulse_run(bearing, cache_dir, limit_state: str, duration: float):
     """The heavy bearing's one-second sine pulse (tests/test_fem_failure.py) with the median
-    criterion, run 50 ms past the first tear."""
+    criterion on the coarse mesh, run on past its failure to ``duration`` [s]."""
     dt = 0.01
     t = np.arange(0.0, 2.0 + dt / 2, dt)
     a = np.where(t < 1.0, 3.0 * np.sin(np.pi * t), 0.0)
-    return fem.simulate(heavy, a, dt, max_step=0.02, mesh_options=COARSE_MESH,
-                        limit_state="rupture", stop_at_failure=False, duration=1.06,
-                        fracture="median", cache_dir=mesh_cache)
+    return fem.simulate(bearing, a, dt, max_step=0.02, mesh_options=COARSE_MESH,
+                        limit_state=limit_state, stop_at_failure=False, duration=duration,
+                        fracture="median", cache_dir=cache_dir)
+
+
+@pytest.fixture(scope="module")
+def tearing_run(mesh_cache, heavy):
+    """The pulse run 50 ms past the first tear."""
+    return _pulse_run(heavy, mesh_cache, "rupture", 1.06)
 
 
 def test_a_rim_tears_and_lets_go_with_the_energy_booked(tearing_run):
@@ -245,12 +250,7 @@ def test_a_rim_tears_and_lets_go_with_the_energy_booked(tearing_run):
 def cut_off_run(mesh_cache, heavy):
     """The same pulse run on to 2 s at the containment: the slider gets through the torn rim
     at 1.07 s and what the tear cut off the rim falls free of the bearing."""
-    dt = 0.01
-    t = np.arange(0.0, 2.0 + dt / 2, dt)
-    a = np.where(t < 1.0, 3.0 * np.sin(np.pi * t), 0.0)
-    return fem.simulate(heavy, a, dt, max_step=0.02, mesh_options=COARSE_MESH,
-                        limit_state="containment", stop_at_failure=False, duration=2.0,
-                        fracture="median", cache_dir=mesh_cache)
+    return _pulse_run(heavy, mesh_cache, "containment", 2.0)
 
 
 def test_torn_off_material_falls_free_and_its_kinetic_energy_is_booked_apart(cut_off_run,
