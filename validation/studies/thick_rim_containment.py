@@ -1,0 +1,121 @@
+"""What the FE model does when a thick rim (120–240 mm) is driven to the loss of containment:
+single FE runs with the containment validations' settings (rims that tear, the median fracture
+set, 20 mm slider edges), one record scaled to SAs above its FE rupture, each run's end and the
+slider's pose there against the rims' corners (the test of Eq. F37 in
+docs/theory/finite-elements.md).
+
+Run: ``OMP_NUM_THREADS=1 python -m validation.studies.thick_rim_containment [--thicknesses
+120 160 240] [--sa 0.22 0.34] [--pressure 60] [--record B-PTS_037]``; writes
+``docs/results/thick_rim_containment.csv`` and, for the first run, the deformed bearing at its
+end (``docs/images/thick_rim_containment.png``). About a minute of CPU a run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import time
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+import fem
+from fem.contact import SliderShape
+from fem.limit_states import corner_nodes
+from fem.output import nodal_displacement, render_result
+from rigid import DFPBearing, G, fema_p695
+from rigid.collapse.comparison import write_csv
+from rigid.motions.spectra import pseudo_acceleration
+from validation.fem_runs import fem_run
+
+from . import IMAGES, RESULTS
+
+EDGE_RADIUS = 0.02  # [m], the containment validations' --fem-edge-radius 20
+
+
+def closest_rim(result) -> dict:
+    """The rim a slider vertex is furthest beyond horizontally at the run's end, with that
+    vertex's overshoot past the rim's inner corner and the height it still has to climb to get
+    over it [m] (Eq. F37 calls the slider past a rim once the overshoot and the climb are both
+    positive, i.e. the climb left is negative), in the deformed configuration."""
+    b = result.bearing
+    d = result.final_displacement
+    pose = np.array([0.0, b.slider_height / 2, 0.0]) + d[-3:]
+    v = SliderShape.from_bearing(b, result.edge_radius).vertices
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    vx, vz = pose[0] + c * v[0] - s * v[1], pose[1] + s * v[0] + c * v[1]
+    u = nodal_displacement(result.mesh, d)
+    best = None
+    for name, node in corner_nodes(result.mesh, b).items():
+        cx, cz = result.mesh.p[:, node] + u[:, node]
+        side = 1.0 if name.endswith("+x") else -1.0  # the rim's side (Eq. F37's σ)
+        top = name.startswith("top")
+        for j in ((2, 3) if top else (0, 1)):
+            over = side * (vx[j] - cx)
+            left = (vz[j] - cz) if top else (cz - vz[j])
+            if best is None or over > best["overshoot_mm"] / 1e3:
+                best = {"rim": name, "overshoot_mm": over * 1e3, "climb_left_mm": left * 1e3}
+    return best
+
+
+def run(thickness: float, pressure: float, motion, sa_g: float) -> tuple[dict, object]:
+    """One FE containment run of ``motion`` scaled to ``sa_g`` [g] with rims ``thickness``
+    [m] thick under ``pressure`` [Pa]: (row of the CSV, the FE result)."""
+    bearing = DFPBearing(pressure=pressure, rim_thickness=thickness)
+    record_sa = float(pseudo_acceleration(motion.acceleration, motion.dt, [4.5], 0.05)[0])
+    captured = {}
+
+    def simulate(*args, **kwargs):
+        captured["result"] = fem.simulate(*args, **kwargs)
+        return captured["result"]
+
+    start = time.process_time()
+    with threadpool_limits(1):
+        out = fem_run(dataclasses.asdict(bearing), motion.acceleration, motion.dt,
+                      sa_g * G / record_sa, limit_state="containment", fracture="median",
+                      edge_radius=EDGE_RADIUS, simulate=simulate)
+    r = captured["result"]
+    outcome = ("numerical" if out["numerical_failure"] else out["failure_mode"] or "contained")
+    row = {"rim_thickness_mm": thickness * 1e3, "pressure_mpa": pressure / 1e6,
+           "record": motion.name, "sa_g": sa_g, "outcome": outcome, "end_s": out["end"],
+           "detail": out["detail"] or "", "torn_elements": out["torn_elements"],
+           "max_plastic_strain": out["max_plastic_strain"],
+           "max_rim_force_mn": out["max_rim_force"] / 1e6,
+           "slider_x_mm": r.slider_displacement[-1] * 1e3,
+           "slider_rise_mm": r.slider_rise[-1] * 1e3,
+           "slider_rotation_deg": math.degrees(r.slider_rotation[-1]),
+           "top_plate_rise_mm": r.top_plate_rise[-1] * 1e3,
+           **closest_rim(r), "cpu_s": time.process_time() - start}
+    return row, r
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--thicknesses", type=float, nargs="+", default=[120, 160, 240],
+                   help="rim thicknesses [mm]")
+    p.add_argument("--sa", type=float, nargs="+", default=[0.22, 0.34],
+                   help="SA(4.5 s) of the scaled record [g]")
+    p.add_argument("--pressure", type=float, default=60, help="bearing pressure [MPa]")
+    p.add_argument("--record", default="B-PTS_037",
+                   help="a near-field pulse component, by a part of its name")
+    args = p.parse_args(argv)
+    motion = next((m for m in fema_p695("nearfield_pulse") if args.record in m.name), None)
+    if motion is None:
+        p.error(f"no near-field pulse component named like {args.record!r}")
+    rows = []
+    for thickness in args.thicknesses:
+        for sa in args.sa:
+            row, result = run(thickness / 1e3, args.pressure * 1e6, motion, sa)
+            rows.append(row)
+            print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
+                            for k, v in row.items()), flush=True)
+            if len(rows) == 1:
+                render_result(IMAGES / "thick_rim_containment.png", result,
+                              title=f"{thickness:.0f} mm rims, {sa} g: the run's end")
+    print(write_csv(rows, RESULTS / "thick_rim_containment.csv"))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
