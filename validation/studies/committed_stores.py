@@ -31,9 +31,10 @@ from . import DOCS
 REPLAYABLE = {
     "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
                        "--limit-state", "hinge", "rupture", "containment"],
-    # remade on 2026-11-28 (STALE before), at the hinge and the rupture only: these two
+    # remade on 2026-11-28 (STALE before); the validations at the hinge and the rupture only
     "fem-validation": ["--limit-state", "hinge", "rupture"],
     "fem-validation-rims80": ["--rim-thickness", "80", "--limit-state", "hinge", "rupture"],
+    "fem-validation-ring/hinge": ["--rim-model", "ring", "--limit-state", "hinge"],
     "rim-design/fem-120": ["--rim-thickness", "120", "--limit-state", "rupture",
                            "--stop", "3"],
     "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
@@ -68,8 +69,6 @@ UNFINISHED: dict[str, list[str]] = {
 #: at the hinge and the rupture only: their containment without fracture is superseded by the
 #: containment with tearing (``fem-validation-fracture*``).
 STALE = {
-    "fem-validation-ring/hinge": ["validation.cli", "validate", "--rim-model", "ring",
-                                  "--limit-state", "hinge"],
     "fem-validation-ring/rupture": ["validation.cli", "validate", "--rim-model", "ring",
                                     "--limit-state", "rupture"],
     "results/fem_mesh_check": ["validation.cli", "validate", "--fem-mesh", "default",
