@@ -24,6 +24,7 @@ import fem
 from fem.contact import SliderShape
 from fem.limit_states import corner_nodes
 from fem.output import nodal_displacement, render_result
+from fem.slider_push import EDGE_RADIUS  # 20 mm, the validations' --fem-edge-radius
 from rigid import DFPBearing, G, fema_p695
 from rigid.collapse.comparison import write_csv
 from rigid.motions.spectra import pseudo_acceleration
@@ -31,14 +32,12 @@ from validation.fem_runs import fem_run
 
 from . import IMAGES, RESULTS
 
-EDGE_RADIUS = 0.02  # [m], the containment validations' --fem-edge-radius 20
-
 
 def closest_rim(result) -> dict:
     """The rim a slider vertex is furthest beyond horizontally at the run's end, with that
     vertex's overshoot past the rim's inner corner and the height it still has to climb to get
-    over it [m] (Eq. F37 calls the slider past a rim once the overshoot and the climb are both
-    positive, i.e. the climb left is negative), in the deformed configuration."""
+    over it [mm] (Eq. F37 calls the slider past a rim once the overshoot is positive and the
+    climb left negative), in the deformed configuration."""
     b = result.bearing
     d = result.final_displacement
     pose = np.array([0.0, b.slider_height / 2, 0.0]) + d[-3:]
@@ -46,7 +45,7 @@ def closest_rim(result) -> dict:
     c, s = math.cos(pose[2]), math.sin(pose[2])
     vx, vz = pose[0] + c * v[0] - s * v[1], pose[1] + s * v[0] + c * v[1]
     u = nodal_displacement(result.mesh, d)
-    best = None
+    best = (-math.inf, None, None)  # (overshoot [m], rim, climb left [m])
     for name, node in corner_nodes(result.mesh, b).items():
         cx, cz = result.mesh.p[:, node] + u[:, node]
         side = 1.0 if name.endswith("+x") else -1.0  # the rim's side (Eq. F37's σ)
@@ -54,16 +53,18 @@ def closest_rim(result) -> dict:
         for j in ((2, 3) if top else (0, 1)):
             over = side * (vx[j] - cx)
             left = (vz[j] - cz) if top else (cz - vz[j])
-            if best is None or over > best["overshoot_mm"] / 1e3:
-                best = {"rim": name, "overshoot_mm": over * 1e3, "climb_left_mm": left * 1e3}
-    return best
+            best = max(best, (over, name, left), key=lambda candidate: candidate[0])
+    over, name, left = best
+    return {"rim": name, "overshoot_mm": over * 1e3, "climb_left_mm": left * 1e3}
 
 
 def run(thickness: float, pressure: float, motion, sa_g: float) -> tuple[dict, object]:
     """One FE containment run of ``motion`` scaled to ``sa_g`` [g] with rims ``thickness``
     [m] thick under ``pressure`` [Pa]: (row of the CSV, the FE result)."""
     bearing = DFPBearing(pressure=pressure, rim_thickness=thickness)
-    record_sa = float(pseudo_acceleration(motion.acceleration, motion.dt, [4.5], 0.05)[0])
+    # SA(Tb) with 5 % damping, as the ladders scale records (rigid.collapse.ladder)
+    record_sa = float(pseudo_acceleration(motion.acceleration, motion.dt,
+                                          [bearing.design_period], 0.05)[0])
     captured = {}
 
     def simulate(*args, **kwargs):
