@@ -13,7 +13,8 @@ import scipy.sparse as sp
 
 from rigid.limit_states import LIMIT_STATES
 
-__all__ = ["LIMIT_STATES", "RIMS", "LimitStates", "rim_gauge_average"]
+__all__ = ["LIMIT_STATES", "RIMS", "LimitStates", "rim_gauge_average", "rim_overshoots",
+           "slider_vertex_positions"]
 
 RIMS = ("bottom -x", "bottom +x", "top -x", "top +x")
 
@@ -66,6 +67,29 @@ def rim_gauge_average(fe, mesh, rim: str, gauge: float) -> tuple[np.ndarray, sp.
     elems = elems[np.sign(centroid_x) == (1.0 if side == "+x" else -1.0)]
     points = np.asarray(fe.basis.global_coordinates())[:, elems].reshape(2, -1)
     return elems, averaging_operator(points, fe.basis.dx[elems].ravel(), 0.5 * gauge)  # geometric
+
+
+def slider_vertex_positions(vertices: np.ndarray, pose) -> tuple[np.ndarray, np.ndarray]:
+    """x and z [m] of the slider's corners ``vertices`` (body frame, (2, 4) [m], in the order of
+    :attr:`fem.contact.slider.SliderShape.vertices`) at the pose (X [m], Z [m], Θ [rad])."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return (pose[0] + c * vertices[0] - s * vertices[1],
+            pose[1] + s * vertices[0] + c * vertices[1])
+
+
+def rim_overshoots(rim: str, corner, vx: np.ndarray, vz: np.ndarray):
+    """For each slider vertex that faces ``rim`` (the bottom ones for a bottom rim, the top ones
+    for a top rim; positions ``vx``, ``vz`` [m]): (vertex index, how far [m] it lies
+    horizontally beyond the rim's deformed inner corner ``corner`` (x, z) [m], the height [m]
+    it still has to go to get past that corner vertically). Eq. F37 calls the vertex past the
+    rim when the first is positive and the second negative. The side σ of Eq. F37 is the rim's
+    own (+1 for a +x rim, −1 for a −x rim), whatever the plate's displacement: a top plate
+    displaced further than the rim radius carries its −x rim's corner to x > 0."""
+    side = 1.0 if rim.endswith("+x") else -1.0
+    top = rim.startswith("top")
+    cx, cz = corner
+    for j in ((2, 3) if top else (0, 1)):
+        yield j, side * (vx[j] - cx), (vz[j] - cz) if top else (cz - vz[j])
 
 
 class LimitStates:
@@ -153,23 +177,16 @@ class LimitStates:
 
     def _containment(self, d, pose):
         """(mode, detail) if the slider has got past a rim or overturned (Eq. F37, F53)."""
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        v = self.vertices
-        vx = pose[0] + c * v[0] - s * v[1]
-        vz = pose[1] + s * v[0] + c * v[1]
+        vx, vz = slider_vertex_positions(self.vertices, pose)
         p = self.mesh.p
         nd = self.nd
         corners = self.corners if self.fracture is None else self._standing_corners()
         for name in RIMS:
             node = corners[name]
-            cx = p[0, node] + d[nd[0, node]]
-            cz = p[1, node] + d[nd[1, node]]
-            side = math.copysign(1.0, cx)
+            corner = (p[0, node] + d[nd[0, node]], p[1, node] + d[nd[1, node]])
             top = name.startswith("top")
-            for j in ((2, 3) if top else (0, 1)):
-                outside = side * (vx[j] - cx) > 0
-                past = (vz[j] < cz) if top else (vz[j] > cz)
-                if outside and past:
+            for j, overshoot, climb_left in rim_overshoots(name, corner, vx, vz):
+                if overshoot > 0 and climb_left < 0:
                     # past where the corner would be had the rim not bent (its reference
                     # position moved with the rim's root): it climbed over a rim that held
                     z0 = p[1, node] + d[nd[1, self.root_nodes[name]]]

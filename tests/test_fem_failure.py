@@ -126,6 +126,38 @@ def test_containment_and_its_mode(mesh_cache):
     assert mode([0.0, bearing.slider_height / 2, 0.9]) == "uplift"  # overturned
 
 
+def test_containment_over_a_top_rim_of_a_displaced_top_plate(mesh_cache):
+    """Eq. F37's side is the rim's, not the sign of its deformed corner's x: with the top plate
+    displaced 0.62 m (more than the rim radius, 0.51 m; as when the slider bears on a rim of
+    each plate), the top −x rim's corner lies at x > 0. A top vertex 5 mm to that corner's −x
+    side and 5 mm past it vertically has climbed over it (uplift); the same vertex 5 mm to its
+    +x side is held. Taking the side from the corner's x (a fault of an earlier version) gets
+    both wrong."""
+    from fem.dfp import build_system
+    from fem.limit_states import LimitStates
+
+    bearing = DFPBearing()
+    model = build_system(bearing, mesh_options=COARSE_MESH, cache_dir=mesh_cache)
+    watch = LimitStates(bearing, model)
+    nd = model.system.fe.basis.nodal_dofs
+    p = model.mesh.p
+    half_b, half_e = model.system.shape.vertices[0, 1], model.system.shape.vertices[1, 3]
+    shift = 0.62
+    d = np.zeros(model.system.size)
+    top_plate = p[1] > bearing.slider_height / 2  # the top plate's nodes
+    d[nd[0, top_plate]] = shift
+    corner = watch.corners["top -x"]
+    cx, cz = p[0, corner] + shift, p[1, corner]
+    assert cx > 0.0
+    z = cz - 0.005 - half_e  # the top vertices 5 mm below the corner: past it vertically
+    past = [cx - 0.005 + half_b, z, 0.0]  # top-left vertex 5 mm to the corner's -x side
+    held = [cx + 0.005 + half_b, z, 0.0]  # 5 mm to its +x side
+    mode, detail = watch._containment(d, np.asarray(past))
+    assert (mode, detail) == ("uplift", "a top slider vertex got past the top -x rim "
+                                        "(climbed over it)")
+    assert watch._containment(d, np.asarray(held)) == (None, None)
+
+
 def test_limit_state_verdicts(mesh_cache):
     """Under each criterion the run fails at the first of that limit state and containment:
     a hinge at 1 s and containment at 2 s fail a "hinge" run at 1 s by yielding and a

@@ -22,7 +22,7 @@ from threadpoolctl import threadpool_limits
 
 import fem
 from fem.contact import SliderShape
-from fem.limit_states import corner_nodes
+from fem.limit_states import corner_nodes, rim_overshoots, slider_vertex_positions
 from fem.output import nodal_displacement, render_result
 from fem.slider_push import EDGE_RADIUS  # 20 mm, the validations' --fem-edge-radius
 from rigid import DFPBearing, G, fema_p695
@@ -41,18 +41,13 @@ def closest_rim(result) -> dict:
     b = result.bearing
     d = result.final_displacement
     pose = np.array([0.0, b.slider_height / 2, 0.0]) + d[-3:]
-    v = SliderShape.from_bearing(b, result.edge_radius).vertices
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    vx, vz = pose[0] + c * v[0] - s * v[1], pose[1] + s * v[0] + c * v[1]
+    vx, vz = slider_vertex_positions(SliderShape.from_bearing(b, result.edge_radius).vertices,
+                                     pose)
     u = nodal_displacement(result.mesh, d)
     best = (-math.inf, None, None)  # (overshoot [m], rim, climb left [m])
     for name, node in corner_nodes(result.mesh, b).items():
-        cx, cz = result.mesh.p[:, node] + u[:, node]
-        side = 1.0 if name.endswith("+x") else -1.0  # the rim's side (Eq. F37's σ)
-        top = name.startswith("top")
-        for j in ((2, 3) if top else (0, 1)):
-            over = side * (vx[j] - cx)
-            left = (vz[j] - cz) if top else (cz - vz[j])
+        corner = result.mesh.p[:, node] + u[:, node]
+        for _, over, left in rim_overshoots(name, corner, vx, vz):
             best = max(best, (over, name, left), key=lambda candidate: candidate[0])
     over, name, left = best
     return {"rim": name, "overshoot_mm": over * 1e3, "climb_left_mm": left * 1e3}
