@@ -406,6 +406,30 @@ def test_rekey_accepts_another_machines_rounding_and_nothing_more(tmp_path, monk
 
 
 @pytest.mark.skipif(shutil.which("git") is None, reason="re-keying reads code through git")
+def test_rekey_accepts_one_newton_iteration_in_a_thousand_and_no_more(tmp_path, monkeypatch):
+    """The Newton iterations count the solver's effort (rigid.tasks.rekey.EFFORT_RTOL):
+    another machine took 2 144 where 2 143 were stored, floats within 6e-9. One iteration
+    more in 2 143 is carried over; ten more is refused, and so is one more accepted step
+    (steps are held to equality)."""
+    from rigid.tasks import ResultStore, run_tasks
+    from rigid.tasks.rekey import RekeyError, rekey
+
+    def toy(iterations: int, steps: int = 500) -> str:
+        return (f"def f(x):\n    return {{'value': x * x, 'newton_iterations': {iterations}, "
+                f"'steps': {steps}}}\n")
+
+    repo = _toy_repo(tmp_path, monkeypatch, {"toy.py": toy(2143)}, {"toy": ("toy.py",)})
+    store = ResultStore(tmp_path / "r.sqlite")
+    run_tasks(_toy_tasks(repo, 3), store, workers=1, progress=False)
+    for refused in (toy(2153), toy(2143, steps=501)):
+        _edit_toy(repo, refused)
+        with pytest.raises(RekeyError, match="differs"):
+            rekey(store, _toy_replay(store, repo, 3), "HEAD")
+    _edit_toy(repo, toy(2144))
+    assert rekey(store, _toy_replay(store, repo, 3), "HEAD") == {"toy": 3}
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="re-keying reads code through git")
 def test_rekey_hashes_a_revision_with_its_own_model_code(tmp_path, monkeypatch):
     """A toy repository whose committed MODEL_CODE gives a sub-folder a model of its own;
     today's merges it into its parent (as fem/fracture joined fem). The results stored under
