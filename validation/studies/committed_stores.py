@@ -29,8 +29,6 @@ from . import DOCS
 #: ``dfp validate`` folders under docs/ that replay with today's code, and the arguments that
 #: made each (besides ``--out``); their READMEs give the same commands.
 REPLAYABLE = {
-    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
-                       "--limit-state", "hinge", "rupture", "containment"],
     # remade on 2026-11-28 (STALE before); the validations at the hinge and the rupture only
     "fem-validation": ["--limit-state", "hinge", "rupture"],
     "fem-validation-rims80": ["--rim-thickness", "80", "--limit-state", "hinge", "rupture"],
@@ -41,17 +39,23 @@ REPLAYABLE = {
                            "--stop", "3"],
     "rim-design/fem-240": ["--rim-thickness", "240", "--limit-state", "rupture",
                            "--stop", "3"],
-    "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
-                                "--fem-edge-radius", "20"],
-    **{f"fem-validation-fracture-sensitivity/{name}": [
-        "--records", "8", "--pressure", "60", "--limit-state", "containment",
-        "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
 }
 
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
 #: as far as their store goes only when named (``--only``), since the command then goes on
 #: with the run (hours).
 UNFINISHED: dict[str, list[str]] = {
+    # the stores whose FE runs watch the containment: their FE runs were removed on
+    # 2026-11-28 when Eq. F37's side test was mended (the top plate's rims were tested on
+    # the wrong side once the plate had moved further than the rim radius) and are being
+    # made again; their rigid records and rim laws carried over from 16373b1
+    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
+                       "--limit-state", "hinge", "rupture", "containment"],
+    "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
+                                "--fem-edge-radius", "20"],
+    **{f"fem-validation-fracture-sensitivity/{name}": [
+        "--records", "8", "--pressure", "60", "--limit-state", "containment",
+        "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
     # finished 2026-11-28; its 46 surviving runs that were made twice by the quiet test
     # before Eq. F69b were removed from the store on 2026-11-28 and are being made again
     # (its README); its law was pushed on another machine: carried over with
