@@ -56,10 +56,9 @@ UNFINISHED: dict[str, list[str]] = {
     **{f"fem-validation-fracture-sensitivity/{name}": [
         "--records", "8", "--pressure", "60", "--limit-state", "containment",
         "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
-    # finished 2026-11-28; its 46 surviving runs that were made twice by the quiet test
-    # before Eq. F69b were removed from the store on 2026-11-28 and are being made again
-    # (its README); its law was pushed on another machine: carried over with
-    # --keep-stored-laws
+    # finished 2026-11-28; its FE runs removed on 2026-11-28 for the containment test's fix
+    # (as the stores above) and to be made again (about 9 h on two workers; its README); its
+    # law was pushed on another machine: carried over with --keep-stored-laws
     "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
                                        "--fem-fracture", "median", "--fem-edge-radius", "20",
                                        "--rim-punch", "slider"],
