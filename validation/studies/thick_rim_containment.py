@@ -7,7 +7,7 @@ docs/theory/finite-elements.md).
 Run: ``OMP_NUM_THREADS=1 python -m validation.studies.thick_rim_containment [--thicknesses
 120 160 240] [--sa 0.22 0.34] [--pressure 60] [--record B-PTS_037]``; writes
 ``docs/results/thick_rim_containment.csv`` and, for the first run, the deformed bearing at its
-end (``docs/images/thick_rim_containment.png``). About a minute of CPU a run.
+end (``docs/images/thick_rim_containment.png``). Under a minute of CPU a run.
 """
 
 from __future__ import annotations
@@ -37,7 +37,9 @@ def closest_rim(result) -> dict:
     """The rim a slider vertex is furthest beyond horizontally at the run's end, with that
     vertex's overshoot past the rim's inner corner and the height it still has to climb to get
     over it [mm] (Eq. F37 calls the slider past a rim once the overshoot is positive and the
-    climb left negative), in the deformed configuration."""
+    climb left negative), in the deformed configuration. The corner is the rim's corner node:
+    once that node's elements have torn off, it went with them, and the run's ``detail`` says
+    what the containment test saw (it follows what is left of the rim, Eq. F68b)."""
     b = result.bearing
     d = result.final_displacement
     pose = np.array([0.0, b.slider_height / 2, 0.0]) + d[-3:]
