@@ -80,6 +80,11 @@ STALE = {
                                "3", "4", "--limit-state", "hinge", "rupture"],
     "results/yielding_rims_fe": ["validation.studies.yielding_rims"],
     "results/fem_trimming_check": ["validation.studies.fem_trimming_check"],
+    # reads the searches of fem-validation-fracture, remade with the containment test mended
+    "results/fem_trimming_check_fracture": [
+        "validation.studies.fem_trimming_check", "--out", str(DOCS / "fem-validation-fracture"),
+        "--limit-state", "containment", "--fem-fracture", "median", "--fem-edge-radius", "20",
+        "--name", "fem_trimming_check_fracture"],
 }
 
 #: The design spaces (``python -m validation.studies.rim_design``): folder → arguments.
