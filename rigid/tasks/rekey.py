@@ -10,9 +10,9 @@ code and requires their results to be equal, timings aside, floats to :data:`RTO
 Newton iterations to :data:`EFFORT_RTOL` (another machine rounds differently); only then does
 it copy every result found under the key today's code asks for. Tasks whose inputs changed,
 not only their code, are out of its reach: they are asked for under other keys and stay
-missing. A store
-whose run was not finished is carried over as far as it goes: what the replay did not find
-is counted (:attr:`Rekeyed.missing`), and a run resumed with today's code computes it.
+missing. A store whose run was not finished is carried over as far as it goes: what the
+replay did not find is counted (:attr:`Rekeyed.missing`), and a run resumed with today's code
+computes it.
 """
 
 from __future__ import annotations
