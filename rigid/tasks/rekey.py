@@ -41,8 +41,8 @@ TIMINGS = frozenset({"cpu_seconds", "wall_seconds", "cpu_s", "seconds", "elapsed
 #: each kind of the committed stores, rerun on another machine, differed by up to 8e-14
 #: (rigid records) and 1.4e-9 (FE runs) relative (docs/fem_validation.md, "Which stores
 #: replay today"). 1e-6 is almost three orders above that and far below what a change of
-#: physics moves (the 2nd to 4th digit). Integers (steps, Newton iterations), verdicts and
-#: names must be equal.
+#: physics moves (the 2nd to 4th digit). Integers (steps), verdicts and names must be equal;
+#: Newton iterations within :data:`EFFORT_RTOL`.
 RTOL = 1e-6
 
 #: Result fields that count the solver's effort, not the physics: the Newton iterations of a
