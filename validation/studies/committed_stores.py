@@ -29,6 +29,9 @@ from . import DOCS
 #: ``dfp validate`` folders under docs/ that replay with today's code, and the arguments that
 #: made each (besides ``--out``); their READMEs give the same commands.
 REPLAYABLE = {
+    # remade on 2026-11-28 with the containment test mended (Eq. F37)
+    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
+                       "--limit-state", "hinge", "rupture", "containment"],
     # remade on 2026-11-28 (STALE before); the validations at the hinge and the rupture only
     "fem-validation": ["--limit-state", "hinge", "rupture"],
     "fem-validation-rims80": ["--rim-thickness", "80", "--limit-state", "hinge", "rupture"],
@@ -51,15 +54,10 @@ REPLAYABLE = {
 #: as far as their store goes only when named (``--only``), since the command then goes on
 #: with the run (hours).
 UNFINISHED: dict[str, list[str]] = {
-    # the other stores whose FE runs watch the containment: their FE runs were removed on
-    # 2026-11-28 when Eq. F37's side test was mended (the top plate's rims were tested on
-    # the wrong side once the plate had moved further than the rim radius) and are being
-    # made again; their rigid records and rim laws carried over from 16373b1
-    "example-report": ["--quick", "--fem-step", "0.005", "--fem-pressure", "60", "10",
-                       "--limit-state", "hinge", "rupture", "containment"],
-    # finished 2026-11-28; its FE runs removed on 2026-11-28 for the containment test's fix
-    # (as the stores above) and to be made again (about 9 h on two workers; its README); its
-    # law was pushed on another machine: carried over with --keep-stored-laws
+    # finished 2026-11-28; its FE runs removed on 2026-11-28 when Eq. F37's side test was
+    # mended (the top plate's rims were tested on the wrong side once the plate had moved
+    # further than the rim radius), to be made again (about 9 h on two workers; its
+    # README); its law was pushed on another machine: carried over with --keep-stored-laws
     "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
                                        "--fem-fracture", "median", "--fem-edge-radius", "20",
                                        "--rim-punch", "slider"],
