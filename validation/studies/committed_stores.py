@@ -36,6 +36,7 @@ REPLAYABLE = {
     "fem-validation": ["--limit-state", "hinge", "rupture"],
     "fem-validation-rims80": ["--rim-thickness", "80", "--limit-state", "hinge", "rupture"],
     "fem-validation-ring/hinge": ["--rim-model", "ring", "--limit-state", "hinge"],
+    "fem-validation-ring/rupture": ["--rim-model", "ring", "--limit-state", "rupture"],
     "rim-design/fem-120": ["--rim-thickness", "120", "--limit-state", "rupture",
                            "--stop", "3"],
     "rim-design/fem-160": ["--rim-thickness", "160", "--limit-state", "rupture",
@@ -71,8 +72,6 @@ UNFINISHED: dict[str, list[str]] = {
 #: at the hinge and the rupture only: their containment without fracture is superseded by the
 #: containment with tearing (``fem-validation-fracture*``).
 STALE = {
-    "fem-validation-ring/rupture": ["validation.cli", "validate", "--rim-model", "ring",
-                                    "--limit-state", "rupture"],
     "results/fem_mesh_check": ["validation.cli", "validate", "--fem-mesh", "default",
                                "--fem-records", "2", "--pressure", "60", "10", "--criteria",
                                "3", "4", "--limit-state", "hinge", "rupture"],
