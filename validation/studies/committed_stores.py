@@ -76,12 +76,8 @@ STALE = {
                                "--fem-records", "2", "--pressure", "60", "10", "--criteria",
                                "3", "4", "--limit-state", "hinge", "rupture"],
     "results/yielding_rims_fe": ["validation.studies.yielding_rims"],
-    "results/fem_trimming_check": ["validation.studies.fem_trimming_check"],
-    # reads the searches of fem-validation-fracture, remade with the containment test mended
-    "results/fem_trimming_check_fracture": [
-        "validation.studies.fem_trimming_check", "--out", str(DOCS / "fem-validation-fracture"),
-        "--limit-state", "containment", "--fem-fracture", "median", "--fem-edge-radius", "20",
-        "--name", "fem_trimming_check_fracture"],
+    "results/fem_trimming_check": ["validation.studies.fem_trimming_check", "--limit-state",
+                                   "hinge", "rupture"],
 }
 
 #: The design spaces (``python -m validation.studies.rim_design``): folder → arguments.

@@ -29,13 +29,14 @@ from validation.studies import FEM_VALIDATION, RESULTS
 from validation.studies.fem_validation_status import replayed, run_settings
 
 
-def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None,
+def surviving_runs(out: Path, limit_states, motions, rim_thickness_mm=None,
                    **tearing) -> list[dict]:
     """Every finished search's highest surviving run below its answer: the search's record,
-    pressure, SA [m/s²], the trimmed run's result and the run's keyword arguments;
+    pressure, limit state, SA [m/s²], the trimmed run's result and the run's keyword
+    arguments; ``limit_states`` those of the validation run (its ``--limit-state``);
     ``tearing``: the run's ``fracture``, ``edge_radius_mm`` and ``rim_punch``
     (:func:`validation.studies.fem_validation_status.run_settings`)."""
-    settings = run_settings((limit_state,), rim_thickness_mm, **tearing)
+    settings = run_settings(tuple(limit_states), rim_thickness_mm, **tearing)
     searches, owners = replayed(out, settings, motions)
     found = searches.results()
     rows = []
@@ -46,13 +47,15 @@ def surviving_runs(out: Path, limit_state: str, motions, rim_thickness_mm=None,
         j = round((probe["sa"] - searches.start) / searches.step)
         _, kwargs = searches.run_key(k // len(searches.limit_states), j)
         pressure, i = owners[k // len(searches.limit_states)]
-        rows.append({"record": motions[i], "pressure": pressure, "sa": probe["sa"],
+        rows.append({"record": motions[i], "pressure": pressure,
+                     "limit_state": r.limit_state, "sa": probe["sa"],
                      "trimmed": probe, "kwargs": kwargs, "models": searches.models})
     return rows
 
 
 def _untrimmed(args, motions) -> tuple[list[dict], list[Task]]:
-    """The ``args.cases`` surviving runs cut shortest, and their untrimmed runs as tasks."""
+    """The ``args.cases`` surviving runs cut shortest (a run that survived under two limit
+    states counts once per limit state), and their untrimmed runs as tasks, one per run."""
     rows = surviving_runs(args.out, args.limit_state, motions, args.rim_thickness,
                           fracture=args.fem_fracture, edge_radius_mm=args.fem_edge_radius,
                           rim_punch=args.rim_punch)
@@ -63,19 +66,20 @@ def _untrimmed(args, motions) -> tuple[list[dict], list[Task]]:
         m = r["record"]
         r["cut_s"] = (m.npts - 1) * m.dt + r["kwargs"]["free"] - r["trimmed"]["end"]
     rows = sorted(rows, key=lambda r: -r["cut_s"])[:args.cases]
-    tasks = []
+    tasks = {}
     for r in rows:
         kwargs = {**r["kwargs"], "trim": "none"}
         r["key"] = task_key("fem-run", r["models"], runner=None, **kwargs)
-        tasks.append(Task(r["key"], "fem-run", fem_run, kwargs))
-    return rows, tasks
+        tasks[r["key"]] = Task(r["key"], "fem-run", fem_run, kwargs)
+    return rows, list(tasks.values())
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--out", type=Path, default=FEM_VALIDATION,
                    help="the validation run's folder (its results.sqlite)")
-    p.add_argument("--limit-state", default="hinge")
+    p.add_argument("--limit-state", nargs="+", default=["hinge"],
+                   help="the run's --limit-state (all of them)")
     p.add_argument("--rim-thickness", type=float, help="the run's --rim-thickness [mm]")
     p.add_argument("--fem-fracture", choices=sorted(FRACTURE_SETS),
                    help="the run's --fem-fracture")
@@ -113,10 +117,10 @@ def main() -> None:
         full, trimmed = results[r["key"]], r["trimmed"]
         table.append({
             "record": r["record"].name, "pressure_mpa": r["pressure"] / 1e6,
-            "limit_state": args.limit_state, "sa_g": r["sa"] / G,
+            "limit_state": r["limit_state"], "sa_g": r["sa"] / G,
             "trimmed_end_s": trimmed["end"], "untrimmed_end_s": full["end"],
             "trimmed_failed": bool(trimmed["failed"]),
-            "untrimmed_failed": failed_under(full, args.limit_state),
+            "untrimmed_failed": failed_under(full, r["limit_state"]),
             "untrimmed_failure_mode": full["failure_mode"] or "none",
             "trimmed_max_rim_force_mn": trimmed["max_rim_force"] / 1e6,
             "untrimmed_max_rim_force_mn": full["max_rim_force"] / 1e6,
