@@ -76,8 +76,6 @@ STALE = {
                                "--fem-records", "2", "--pressure", "60", "10", "--criteria",
                                "3", "4", "--limit-state", "hinge", "rupture"],
     "results/yielding_rims_fe": ["validation.studies.yielding_rims"],
-    "results/fem_trimming_check": ["validation.studies.fem_trimming_check", "--limit-state",
-                                   "hinge", "rupture"],
 }
 
 #: The design spaces (``python -m validation.studies.rim_design``): folder → arguments.
