@@ -67,15 +67,13 @@ UNFINISHED: dict[str, list[str]] = {
 #: Stores that no code of today reaches (their keys changed with the inputs, not only the
 #: code, so ``--rekey-from`` cannot carry them): folder under docs/ → the command that remakes
 #: it (module and arguments, besides ``--out``), rerun from scratch with ``--rerun`` in this
-#: order (the trimming check reads the searches of ``fem-validation``, remade first); hours of
-#: CPU in all (docs/fem_validation.md, "Which stores replay today"). The validations are remade
-#: at the hinge and the rupture only: their containment without fracture is superseded by the
-#: containment with tearing (``fem-validation-fracture*``).
+#: order; hours of CPU (docs/fem_validation.md, "Which stores replay today"). The validations
+#: are remade at the hinge and the rupture only: their containment without fracture is
+#: superseded by the containment with tearing (``fem-validation-fracture*``).
 STALE = {
     "results/fem_mesh_check": ["validation.cli", "validate", "--fem-mesh", "default",
                                "--fem-records", "2", "--pressure", "60", "10", "--criteria",
                                "3", "4", "--limit-state", "hinge", "rupture"],
-    "results/yielding_rims_fe": ["validation.studies.yielding_rims"],
 }
 
 #: The design spaces (``python -m validation.studies.rim_design``): folder → arguments.
@@ -101,9 +99,9 @@ def rekey_command(folder: str, revision: str, keep_laws: bool = False) -> list[s
 
 def rerun_command(folder: str) -> list[str]:
     """The command that remakes the stale store of ``folder`` (:data:`STALE`) with today's
-    code, resumable as every study's store; the two studies write to their default folders
-    (``yielding_rims``: docs/results/yielding_rims_fe; ``fem_trimming_check`` reads the
-    searches of docs/fem-validation and stores in docs/results/fem_trimming_check)."""
+    code, resumable as every study's store: ``dfp validate`` is given ``--out``, a study
+    (``validation.studies.*``) writes where its arguments or defaults say, which must be
+    ``folder``."""
     module, *args = STALE[folder]
     out = ["--out", str(DOCS / folder), "--no-progress"] if module == "validation.cli" else []
     return [sys.executable, "-m", module, *args, *out]
