@@ -25,9 +25,8 @@ from fem.contact import SliderShape
 from fem.limit_states import corner_nodes, rim_overshoots, slider_vertex_positions
 from fem.output import nodal_displacement, render_result
 from fem.slider_push import EDGE_RADIUS  # 20 mm, the validations' --fem-edge-radius
-from rigid import DFPBearing, G, fema_p695
+from rigid import DFPBearing, G, fema_p695, scale_factor
 from rigid.collapse.comparison import write_csv
-from rigid.motions.spectra import pseudo_acceleration
 from validation.fem_runs import fem_run
 
 from . import IMAGES, RESULTS
@@ -59,9 +58,8 @@ def run(thickness: float, pressure: float, motion, sa_g: float) -> tuple[dict, o
     """One FE containment run of ``motion`` scaled to ``sa_g`` [g] with rims ``thickness``
     [m] thick under ``pressure`` [Pa]: (row of the CSV, the FE result)."""
     bearing = DFPBearing(pressure=pressure, rim_thickness=thickness)
-    # SA(Tb) with 5 % damping, as the ladders scale records (rigid.collapse.ladder)
-    record_sa = float(pseudo_acceleration(motion.acceleration, motion.dt,
-                                          [bearing.design_period], 0.05)[0])
+    # the record scaled to SA(Tb) with 5 % damping, as the ladders scale records (Eq. M15)
+    scale = scale_factor(motion.acceleration, motion.dt, sa_g * G, bearing.design_period)
     captured = {}
 
     def simulate(*args, **kwargs):
@@ -71,7 +69,7 @@ def run(thickness: float, pressure: float, motion, sa_g: float) -> tuple[dict, o
     start = time.process_time()
     with threadpool_limits(1):
         out = fem_run(dataclasses.asdict(bearing), motion.acceleration, motion.dt,
-                      sa_g * G / record_sa, limit_state="containment", fracture="median",
+                      scale, limit_state="containment", fracture="median",
                       edge_radius=EDGE_RADIUS, simulate=simulate)
     r = captured["result"]
     outcome = ("numerical" if out["numerical_failure"] else out["failure_mode"] or "contained")
