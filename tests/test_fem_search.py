@@ -12,7 +12,7 @@ from rigid import DFPBearing, G
 from rigid.collapse.trimming import critical_sa_trimmed, sliding_threshold, strong_motion_window
 from rigid.model import reach_energy
 from rigid.tasks.store import ResultStore
-from validation.fem_search import BracketBisect, FESettings, decides, run_fem_searches
+from validation.fem_search import BracketBisect, FESettings, decides, failed_under, run_fem_searches
 
 
 def _drive(search, threshold):
@@ -148,18 +148,22 @@ def test_fem_searches_run_as_stored_resumable_tasks(tmp_path):
 STATE_PGA = {"hinge": 2.0, "rupture": 2.5, "containment": 3.0}
 #: Scaled PGA band [m/s²] whose runs are numerical (set by the test).
 NUMERICAL_PGA = [math.inf, math.inf]
+#: Limit states a numerical run records as reached before its numerical end (set by the test).
+REACHED_BEFORE_NUMERICAL: set = set()
 
 
 def limit_state_runner(bearing, acceleration, dt, scale, *, limit_state, **settings):
     """Stand-in for fem_run with limit states: each is reached once the scaled PGA passes its
     STATE_PGA; the run stops at ``limit_state`` (later states not recorded); runs with a PGA
-    in the NUMERICAL_PGA band are numerical."""
+    in the NUMERICAL_PGA band are numerical, after reaching those of REACHED_BEFORE_NUMERICAL
+    that their PGA passes."""
     CALLS.append(scale)
     pga = scale * np.max(np.abs(acceleration))
     if NUMERICAL_PGA[0] <= pga < NUMERICAL_PGA[1]:
+        times = {k: (1.0 if k in REACHED_BEFORE_NUMERICAL and pga >= v else None)
+                 for k, v in STATE_PGA.items()}
         return {"failed": False, "numerical_failure": True, "failure_mode": None,
-                "failure_time": None, "limit_states": dict.fromkeys(STATE_PGA),
-                "cpu_seconds": 0.0}
+                "failure_time": None, "limit_states": times, "cpu_seconds": 0.0}
     order = list(STATE_PGA)
     times = {k: (1.0 + i if pga >= STATE_PGA[k] and i <= order.index(limit_state) else None)
              for i, k in enumerate(order)}
@@ -208,6 +212,23 @@ def test_searches_per_limit_state_share_their_runs(tmp_path):
     assert containment.numerical_runs == 1 and containment.uncertain
     assert containment.sa == pytest.approx(oracle("containment") - STEP, abs=1e-12)
     assert hinge.sa == pytest.approx(oracle("hinge"), abs=1e-12) and not hinge.uncertain
+
+    # The hinge's own rung numerical after the hinge: the hinge search takes it as the
+    # hinge it is, so its answer is certain (it was uncertain before failed_under said so).
+    at_hinge = oracle("hinge") / crit.record_sa * pga
+    NUMERICAL_PGA[:] = [at_hinge - 1e-9, at_hinge + 1e-9]
+    REACHED_BEFORE_NUMERICAL.add("hinge")
+    try:
+        found = run_fem_searches(targets, settings, ResultStore(tmp_path / "h.sqlite"),
+                                 step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
+                                 workers=1, progress=False)
+    finally:
+        NUMERICAL_PGA[:] = [math.inf, math.inf]
+        REACHED_BEFORE_NUMERICAL.clear()
+    hinge = found[1]
+    assert any(p["numerical_failure"] for p in hinge.probes), "the hinge rung was not probed"
+    assert hinge.sa == pytest.approx(oracle("hinge"), abs=1e-12)
+    assert not hinge.uncertain and hinge.numerical_runs == 0
 
 
 def test_a_study_extended_to_later_limit_states_reuses_its_stored_runs(tmp_path):
@@ -262,6 +283,25 @@ def test_which_limit_states_a_stored_run_answers(run_state, times, numerical, an
     result = {"limit_states": times, "numerical_failure": numerical}
     assert {s for s in ("hinge", "rupture", "containment")
             if decides(result, run_state, s)} == answers
+
+
+@pytest.mark.parametrize(("times", "numerical", "verdicts"), [
+    ({"hinge": 3.0, "rupture": None, "containment": None}, False, (True, False, False)),
+    ({"hinge": None, "rupture": None, "containment": None}, False, (False, False, False)),
+    ({"hinge": None, "rupture": None, "containment": 5.0}, False, (True, True, True)),
+    # a numerical end after the hinge: hinged (a failure), the later states unknown
+    ({"hinge": 3.0, "rupture": None, "containment": None}, True, (True, None, None)),
+    ({"hinge": 3.0, "rupture": 4.0, "containment": None}, True, (True, True, None)),
+    ({"hinge": None, "rupture": None, "containment": None}, True, (None, None, None)),
+])
+def test_a_limit_state_reached_before_a_numerical_end_is_a_failure(times, numerical,
+                                                                   verdicts):
+    """failed_under per limit state (hinge, rupture, containment): what a run reached before
+    it failed numerically happened (True); what it did not reach is unknown (None), not a
+    survival, and a run that ran to its end survived what it did not reach (False)."""
+    result = {"limit_states": times, "numerical_failure": numerical, "failed": False}
+    assert tuple(failed_under(result, s) for s in ("hinge", "rupture", "containment")) \
+        == verdicts
 
 
 def test_validation_starts_fem_searches_from_the_rigid_results(tmp_path):

@@ -20,7 +20,8 @@ from rigid.tasks import ResultStore, Task, run_tasks, task_key
 from .fem_runs import MESHES, fem_run
 
 __all__ = ["BracketBisect", "FECritical", "FESearches", "FESettings", "decides",
-           "failed_under", "run_criterion", "run_fem_searches", "run_limit_state"]
+           "failed_under", "run_criterion", "run_fem_searches", "run_limit_state",
+           "verdict_of"]
 
 
 class BracketBisect:
@@ -172,15 +173,17 @@ def run_criterion(limit_states) -> str:
 
 def failed_under(result: dict, limit_state: str) -> bool | None:
     """The verdict of a stored FE run under ``limit_state``: True if the run reached it or lost
-    containment (failure under any limit state), False if not, None if the run failed
-    numerically (neither a failure nor a survival). Runs without ``limit_states`` (stand-in
-    runners) give their own ``failed``."""
+    containment (failure under any limit state), also when it failed numerically later on;
+    False if it reached neither and ran to its end; None if it failed numerically before
+    reaching either (neither a failure nor a survival). Runs without ``limit_states``
+    (stand-in runners) give their own ``failed``, or None if numerical."""
+    times = result.get("limit_states")
+    if times is not None and (times.get(limit_state) is not None
+                              or times.get("containment") is not None):
+        return True
     if result.get("numerical_failure"):
         return None
-    times = result.get("limit_states")
-    if times is None:
-        return bool(result["failed"])
-    return times.get(limit_state) is not None or times.get("containment") is not None
+    return bool(result["failed"]) if times is None else False
 
 
 def decides(result: dict, run_state: str, limit_state: str) -> bool:
@@ -265,8 +268,9 @@ class FECritical:
 install_short_repr(FECritical)
 
 
-def _verdict_of(result: dict, limit_state: str):
-    """(mode, time [s]) of a run that failed under ``limit_state``."""
+def verdict_of(result: dict, limit_state: str):
+    """(mode, time [s]) of a run that failed under ``limit_state`` (:func:`failed_under`
+    True): the loss of containment if it came first, else the limit state's own time."""
     times = result.get("limit_states")
     if times is None:
         return result.get("failure_mode"), result.get("failure_time")
@@ -421,7 +425,7 @@ class FESearches:
                 r.sa = self.start + s.critical * self.step
                 at = next(p for p in r.probes if math.isclose(p["sa"], r.sa))
                 if at["failed"]:
-                    r.failure_mode, r.failure_time = _verdict_of(at, r.limit_state)
+                    r.failure_mode, r.failure_time = verdict_of(at, r.limit_state)
             if s.lo is not None and (s.critical is None or s.lo < s.critical):
                 r.survived_below = self.start + s.lo * self.step
         return self.found

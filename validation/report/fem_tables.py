@@ -10,6 +10,7 @@ import numpy as np
 
 from rigid import G
 from rigid.limit_states import LIMIT_STATES
+from validation.fem_search import verdict_of
 
 __all__ = ["claim_verdicts", "fem_rows", "fem_run_rows", "fem_statistics", "meets_goal",
            "plot_fem_vs_rigid", "within_band"]
@@ -113,21 +114,23 @@ def claim_verdicts(stats: list[dict]) -> list[str]:
 def fem_run_rows(fem: dict) -> list[dict]:
     """Every FE run, in the order each search made them (a run shared by the searches of
     several limit states is listed under each, with that limit state's verdict: ``failed``
-    True, False or "numerical"), with the times [s] it reached each limit state and, for a
-    run that ended numerically, why (``numerical_detail``)."""
+    True, False or "numerical", and the mode and time [s] of that failure), with the times
+    [s] it reached each limit state and, for a run that ended numerically, why
+    (``numerical_detail``)."""
     rows = []
     for pressure, found in fem.items():
         for r in found:
             for k, p in enumerate(r.probes):
                 times = p.get("limit_states") or {}
+                mode, time = verdict_of(p, r.limit_state) if p["failed"] else (None, None)
                 rows.append({
                     "record": r.name, "pressure_mpa": pressure / 1e6,
                     "limit_state": r.limit_state, "run": k + 1,
                     "sa_g": p["sa"] / G, "scale": p["scale"],
                     "failed": "numerical" if p["failed"] is None else bool(p["failed"]),
-                    "failure_mode": p.get("failure_mode") or "none",
+                    "failure_mode": mode or "none",
                     **{f"{state}_s": times.get(state) for state in LIMIT_STATES},
-                    "failure_time_s": p.get("failure_time"),
+                    "failure_time_s": time,
                     "numerical_failure": bool(p.get("numerical_failure", False)),
                     "numerical_detail": (p.get("detail") if p.get("numerical_failure")
                                          else None),
