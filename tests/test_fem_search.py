@@ -173,6 +173,20 @@ def limit_state_runner(bearing, acceleration, dt, scale, *, limit_state, **setti
             "failure_time": times[limit_state], "limit_states": times, "cpu_seconds": 0.0}
 
 
+def _with_a_numerical_rung(targets, settings, path, pga, reached=()):
+    """The searches of ``targets`` in a new store at ``path``, the run at the scaled PGA
+    ``pga`` [m/s²] numerical after reaching the limit states ``reached``."""
+    NUMERICAL_PGA[:] = [pga - 1e-9, pga + 1e-9]
+    REACHED_BEFORE_NUMERICAL.update(reached)
+    try:
+        return run_fem_searches(targets, settings, ResultStore(path), step=STEP, start=STEP,
+                                stop=STOP, runner=limit_state_runner, workers=1,
+                                progress=False)
+    finally:
+        NUMERICAL_PGA[:] = [math.inf, math.inf]
+        REACHED_BEFORE_NUMERICAL.clear()
+
+
 def test_searches_per_limit_state_share_their_runs(tmp_path):
     """Three limit states: each search ends on its own brute-force threshold rung, every run
     is made once however many searches ask for it (the runner is called once per distinct
@@ -201,14 +215,8 @@ def test_searches_per_limit_state_share_their_runs(tmp_path):
     assert len(CALLS) == len({round(x, 12) for x in CALLS}) < sum(f.runs for f in found)
 
     below = (oracle("containment") - STEP) / crit.record_sa * pga  # that rung's PGA
-    NUMERICAL_PGA[:] = [below - 1e-9, below + 1e-9]
-    try:
-        found = run_fem_searches(targets, settings, ResultStore(tmp_path / "n.sqlite"),
-                                 step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
-                                 workers=1, progress=False)
-    finally:
-        NUMERICAL_PGA[:] = [math.inf, math.inf]
-    containment, hinge, _ = found
+    containment, hinge, _ = _with_a_numerical_rung(targets, settings, tmp_path / "n.sqlite",
+                                                   below)
     assert containment.numerical_runs == 1 and containment.uncertain
     assert containment.sa == pytest.approx(oracle("containment") - STEP, abs=1e-12)
     assert hinge.sa == pytest.approx(oracle("hinge"), abs=1e-12) and not hinge.uncertain
@@ -216,16 +224,8 @@ def test_searches_per_limit_state_share_their_runs(tmp_path):
     # The hinge's own rung numerical after the hinge: the hinge search takes it as the
     # hinge it is, so its answer is certain (it was uncertain before failed_under said so).
     at_hinge = oracle("hinge") / crit.record_sa * pga
-    NUMERICAL_PGA[:] = [at_hinge - 1e-9, at_hinge + 1e-9]
-    REACHED_BEFORE_NUMERICAL.add("hinge")
-    try:
-        found = run_fem_searches(targets, settings, ResultStore(tmp_path / "h.sqlite"),
-                                 step=STEP, start=STEP, stop=STOP, runner=limit_state_runner,
-                                 workers=1, progress=False)
-    finally:
-        NUMERICAL_PGA[:] = [math.inf, math.inf]
-        REACHED_BEFORE_NUMERICAL.clear()
-    hinge = found[1]
+    hinge = _with_a_numerical_rung(targets, settings, tmp_path / "h.sqlite", at_hinge,
+                                   reached=("hinge",))[1]
     assert any(p["numerical_failure"] for p in hinge.probes), "the hinge rung was not probed"
     assert hinge.sa == pytest.approx(oracle("hinge"), abs=1e-12)
     assert not hinge.uncertain and hinge.numerical_runs == 0
