@@ -65,6 +65,12 @@ UNFINISHED: dict[str, list[str]] = {
     "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
                                        "--fem-fracture", "median", "--fem-edge-radius", "20",
                                        "--rim-punch", "slider"],
+    # begun 2026-11-29 (python -m validation.studies.fracture_sensitivity --rim-thickness 80),
+    # stopped to give the 80 mm validation both cores; the mild set not begun
+    "fem-validation-fracture-sensitivity-rims80/steep": [
+        "--records", "8", "--pressure", "60", "--limit-state", "containment",
+        "--fem-fracture", "steep", "--fem-edge-radius", "20", "--rim-thickness", "80",
+        "--rim-punch", "slider"],
 }
 
 #: Stores that no code of today reaches (their keys changed with the inputs, not only the

@@ -16,7 +16,13 @@ searches of its ``status.csv``). Writes ``docs/results/containment_fracture_sens
 per record, each set's FE and rigid SA [g] and their ratios to the median's, and three last
 rows with the median, smallest and largest of each ratio over the records.
 
-Run: ``python -m validation.studies.fracture_sensitivity [--workers 2] [--tables-only]``.
+With ``--rim-thickness 80`` the same for the 80 mm rims, whose law through tearing is the
+slider's push (``--rim-thickness 80 --rim-punch slider`` added to the command above): the
+folders ``docs/fem-validation-fracture-sensitivity-rims80/SET``, the median runs of
+``docs/fem-validation-fracture-rims80``, the table ``containment_fracture_sensitivity_rims80.csv``.
+
+Run: ``python -m validation.studies.fracture_sensitivity [--rim-thickness 80] [--workers 2]
+[--tables-only]``.
 """
 
 from __future__ import annotations
@@ -32,15 +38,23 @@ from . import DOCS, RESULTS, read_csv, validation_table
 SETS = ("steep", "median", "mild")
 RECORDS = 8  # the first components of the set, in its order
 PRESSURE = 60  # [MPa]
-OUT = DOCS / "fem-validation-fracture-sensitivity"
-MEDIAN = DOCS / "fem-validation-fracture"
+#: rim thickness [mm] → (the steep and mild sets' folder, the median set's validation, the
+#: arguments of ``dfp validate`` that set the rims, the table's name)
+RIMS = {
+    40: (DOCS / "fem-validation-fracture-sensitivity", DOCS / "fem-validation-fracture", [],
+         "containment_fracture_sensitivity.csv"),
+    80: (DOCS / "fem-validation-fracture-sensitivity-rims80",
+         DOCS / "fem-validation-fracture-rims80",
+         ["--rim-thickness", "80", "--rim-punch", "slider"],
+         "containment_fracture_sensitivity_rims80.csv"),
+}
 
 
-def command(fracture: str, out: Path, workers: int) -> list[str]:
-    """``dfp validate`` arguments of one set's runs."""
+def command(fracture: str, out: Path, workers: int, rims: list[str] = ()) -> list[str]:
+    """``dfp validate`` arguments of one set's runs (``rims``: those that set the rims)."""
     return ["validate", "--records", str(RECORDS), "--pressure", str(PRESSURE),
             "--limit-state", "containment", "--fem-fracture", fracture,
-            "--fem-edge-radius", "20", "--workers", str(workers), "--no-progress",
+            "--fem-edge-radius", "20", *rims, "--workers", str(workers), "--no-progress",
             "--out", str(out)]
 
 
@@ -86,16 +100,19 @@ def main(argv=None) -> None:
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--tables-only", action="store_true",
                    help="only write the table from the folders as they are")
+    p.add_argument("--rim-thickness", type=int, choices=sorted(RIMS), default=40,
+                   help="[mm]")
     p.add_argument("--out", type=Path, default=RESULTS)
     args = p.parse_args(argv)
-    folders = {"steep": OUT / "steep", "median": MEDIAN, "mild": OUT / "mild"}
+    out, median, rims, name = RIMS[args.rim_thickness]
+    folders = {"steep": out / "steep", "median": median, "mild": out / "mild"}
     if not args.tables_only:
         from validation import cli
 
         for s in ("steep", "mild"):
-            cli.main(command(s, folders[s], args.workers))
+            cli.main(command(s, folders[s], args.workers, rims))
     rows = table(folders)
-    write_csv(rows, args.out / "containment_fracture_sensitivity.csv")
+    write_csv(rows, args.out / name)
     for r in rows[-3:]:
         print(r)
 
