@@ -25,6 +25,7 @@ import sys
 import time
 
 from . import DOCS
+from .fracture_sensitivity import RIMS, validate_args
 
 #: ``dfp validate`` folders under docs/ that replay with today's code, and the arguments that
 #: made each (besides ``--out``); their READMEs give the same commands.
@@ -49,9 +50,8 @@ REPLAYABLE = {
     # remade on 2026-11-28 with the containment test mended (Eq. F37)
     "fem-validation-fracture": ["--limit-state", "containment", "--fem-fracture", "median",
                                 "--fem-edge-radius", "20"],
-    **{f"fem-validation-fracture-sensitivity/{name}": [
-        "--records", "8", "--pressure", "60", "--limit-state", "containment",
-        "--fem-fracture", name, "--fem-edge-radius", "20"] for name in ("steep", "mild")},
+    **{f"fem-validation-fracture-sensitivity/{name}": validate_args(name)
+       for name in ("steep", "mild")},
 }
 
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
@@ -67,10 +67,7 @@ UNFINISHED: dict[str, list[str]] = {
                                        "--rim-punch", "slider"],
     # begun 2026-11-29 (python -m validation.studies.fracture_sensitivity --rim-thickness 80),
     # stopped to give the 80 mm validation both cores; the mild set not begun
-    "fem-validation-fracture-sensitivity-rims80/steep": [
-        "--records", "8", "--pressure", "60", "--limit-state", "containment",
-        "--fem-fracture", "steep", "--fem-edge-radius", "20", "--rim-thickness", "80",
-        "--rim-punch", "slider"],
+    "fem-validation-fracture-sensitivity-rims80/steep": validate_args("steep", RIMS[80][2]),
 }
 
 #: Stores that no code of today reaches (their keys changed with the inputs, not only the

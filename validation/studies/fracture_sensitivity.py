@@ -50,12 +50,18 @@ RIMS = {
 }
 
 
+def validate_args(fracture: str, rims: list[str] = ()) -> list[str]:
+    """``dfp validate`` arguments of one set's runs besides ``--out`` and ``--workers``
+    (``rims``: those that set the rims, :data:`RIMS`); the committed stores' registry uses
+    them too."""
+    return ["--records", str(RECORDS), "--pressure", str(PRESSURE), "--limit-state",
+            "containment", "--fem-fracture", fracture, "--fem-edge-radius", "20", *rims]
+
+
 def command(fracture: str, out: Path, workers: int, rims: list[str] = ()) -> list[str]:
-    """``dfp validate`` arguments of one set's runs (``rims``: those that set the rims)."""
-    return ["validate", "--records", str(RECORDS), "--pressure", str(PRESSURE),
-            "--limit-state", "containment", "--fem-fracture", fracture,
-            "--fem-edge-radius", "20", *rims, "--workers", str(workers), "--no-progress",
-            "--out", str(out)]
+    """``dfp validate`` command line of one set's runs (``rims``: those that set the rims)."""
+    return ["validate", *validate_args(fracture, rims), "--workers", str(workers),
+            "--no-progress", "--out", str(out)]
 
 
 def _finished(folder: Path) -> dict:
