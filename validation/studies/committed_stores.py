@@ -52,19 +52,17 @@ REPLAYABLE = {
                                 "--fem-edge-radius", "20"],
     **{f"fem-validation-fracture-sensitivity/{name}": validate_args(name)
        for name in ("steep", "mild")},
+    # remade 2026-11-29 with the containment test mended (Eq. F37); its law was pushed on
+    # another machine (2026-11-27): carried over with --keep-stored-laws
+    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
+                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
+                                       "--rim-punch", "slider"],
 }
 
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
 #: as far as their store goes only when named (``--only``), since the command then goes on
 #: with the run (hours).
 UNFINISHED: dict[str, list[str]] = {
-    # finished 2026-11-28; its FE runs removed on 2026-11-28 when Eq. F37's side test was
-    # mended (the top plate's rims were tested on the wrong side once the plate had moved
-    # further than the rim radius), to be made again (about 9 h on two workers; its
-    # README); its law was pushed on another machine: carried over with --keep-stored-laws
-    "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
-                                       "--fem-fracture", "median", "--fem-edge-radius", "20",
-                                       "--rim-punch", "slider"],
     # begun 2026-11-29 (python -m validation.studies.fracture_sensitivity --rim-thickness 80),
     # stopped to give the 80 mm validation both cores; the mild set not begun
     "fem-validation-fracture-sensitivity-rims80/steep": validate_args("steep", RIMS[80][2]),
