@@ -57,16 +57,15 @@ REPLAYABLE = {
     "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
                                        "--fem-fracture", "median", "--fem-edge-radius", "20",
                                        "--rim-punch", "slider"],
+    # made 2026-11-29 (python -m validation.studies.fracture_sensitivity --rim-thickness 80)
+    **{f"fem-validation-fracture-sensitivity-rims80/{name}": validate_args(name, RIMS[80][2])
+       for name in ("steep", "mild")},
 }
 
 #: ``dfp validate`` folders whose run is not finished, not replayed by the tests: carried over
 #: as far as their store goes only when named (``--only``), since the command then goes on
 #: with the run (hours).
-UNFINISHED: dict[str, list[str]] = {
-    # begun 2026-11-29 (python -m validation.studies.fracture_sensitivity --rim-thickness 80),
-    # stopped to give the 80 mm validation both cores; the mild set not begun
-    "fem-validation-fracture-sensitivity-rims80/steep": validate_args("steep", RIMS[80][2]),
-}
+UNFINISHED: dict[str, list[str]] = {}
 
 #: Stores that no code of today reaches (their keys changed with the inputs, not only the
 #: code, so ``--rekey-from`` cannot carry them): folder under docs/ → the command that remakes
