@@ -14,6 +14,7 @@ import numpy as np
 from rigid.bearing import DFPBearing, G
 
 from . import contact as C
+from .contact.exposed import with_rim_vertices
 
 CONTACT_BOUNDARIES = ("dish", "rim_inner", "rim_top")
 #: Kinematics of the plates and rims: small strain or finite deformation.
@@ -78,6 +79,7 @@ def build_system(
     kinematics: str = "small",
     edge_radius: float = 0.0,
     rim_depth: float | None = None,
+    uncovered_rims: bool = False,
     cache_dir=None,
 ) -> DFPSystem:
     """Assemble the plane-strain DFP model of a bearing.
@@ -109,6 +111,10 @@ def build_system(
     rim_depth : float [m], optional
         Out-of-plane depth of the rims' steel, when it differs from the model's depth πb/4:
         the 3-D rim's effective depth (:func:`fem.effective_rim_depth`; Eq. F59).
+    uncovered_rims : bool
+        Make every vertex of the rims a contact node, so that the faces which eroded rim
+        elements uncover carry contact (:mod:`fem.contact.exposed`, Eq. F68c); default False:
+        the rims' inner faces and tops only.
     cache_dir : path-like, optional
         Mesh cache.
 
@@ -144,6 +150,9 @@ def build_system(
     nodes = C.ContactNodes.from_mesh(
         m, boundaries, vertex_boundaries=rims if vertex_contact else ()
     )
+    surface = None
+    if uncovered_rims:
+        nodes, surface = with_rim_vertices(m, nodes, boundaries, bearing.rim_friction)
     dish = m.facets[:, m.boundaries["bottom_dish"]]
     h_c = float(np.mean(np.linalg.norm(m.p[:, dish[1]] - m.p[:, dish[0]], axis=0)))
     eps_n = penalty_factor * bearing.youngs_modulus / h_c
@@ -152,7 +161,7 @@ def build_system(
         fe, steel if plasticity else steel.elastic(), shape, nodes,
         pose=[0.0, bearing.slider_height / 2, 0.0],
         penalty=eps_n, tangential_penalty=tangential_ratio * eps_n,
-        vertex_depth=bearing.rim_thickness / 2,
+        vertex_depth=bearing.rim_thickness / 2, surface=surface,
     )
 
     nd = fe.basis.nodal_dofs

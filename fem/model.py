@@ -147,7 +147,10 @@ class FEMResult:
         With ``fracture``: the largest ductile damage of an element of each rim (Eq. F67);
         an empty array without.
     torn_elements : dict
-        With ``fracture``: element → (time [s], rim) at which it tore, in that order.
+        With ``fracture``: element → (time [s], rim) at which it tore, in that order (the
+        crushed ones of Eq. F67b included).
+    crushed_elements : dict
+        With ``crush_jacobian``: element → (time [s], rim) of those crushed (Eq. F67b).
     retained : ndarray, shape (nelems,) [-] or None
         With ``fracture``: the fraction of its stiffness each element keeps at the end (0:
         eroded; Eq. F68).
@@ -191,6 +194,7 @@ class FEMResult:
     edge_radius: float = 0.0
     rim_damage: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)), repr=False)
     torn_elements: dict = field(default_factory=dict)
+    crushed_elements: dict = field(default_factory=dict)
     retained: np.ndarray | None = field(default=None, repr=False)
 
     failure_criterion = deprecated_attribute("failure_criterion")
@@ -243,6 +247,7 @@ def simulate(
     rim_depth: float | None = None,
     fracture=None,
     erosion_steps: int = 10,
+    crush_jacobian: float | None = None,
     cache_dir=None,
 ) -> FEMResult:
     """Run the plane-strain FE model of the DFP bearing on a horizontal ground acceleration.
@@ -315,6 +320,11 @@ def simulate(
         With ``fracture``: the accepted steps over which a torn element lets go of its
         stress and stiffness (Eq. F68); 0 tracks the damage and tears nothing. Needs
         ``kinematics="finite"`` when positive.
+    crush_jacobian : float [-], optional
+        With ``fracture``: a rim element whose det F at a point falls below this (in (0, 1))
+        is crushed, and lets go as a torn one (Eq. F67b), and the faces that the elements
+        letting go uncover carry contact (Eq. F68c); default None: nothing is crushed, and a
+        torn rim's inside is no contact surface.
     cache_dir : path-like, optional
         Mesh cache directory.
 
@@ -342,11 +352,13 @@ def simulate(
         bearing, mesh_options=mesh_options, penalty_factor=penalty_factor,
         vertex_contact=vertex_contact, plasticity=plasticity, kinematics=kinematics,
         edge_radius=edge_radius, rim_depth=rim_depth, cache_dir=cache_dir,
+        uncovered_rims=crush_jacobian is not None,
     )
     red, depth = model.reduction, model.depth
     rim_of = rim_of_nodes(model)
     rim_mask = rim_of >= 0
-    tearing = _rim_fracture(fracture, erosion_steps, bearing, model, kinematics)
+    tearing = _rim_fracture(fracture, erosion_steps, bearing, model, kinematics,
+                            crush_jacobian)
     watch = LimitStates(bearing, model, fracture=tearing)
     observer = Observer(
         model=model, rim_of=rim_of, watch=watch, limit_state=limit_state,
@@ -369,18 +381,22 @@ def simulate(
                    kinematics=kinematics, edge_radius=edge_radius, wall0=wall0)
 
 
-def _rim_fracture(fracture, erosion_steps, bearing, model, kinematics):
+def _rim_fracture(fracture, erosion_steps, bearing, model, kinematics, crush_jacobian=None):
     """The :class:`fem.fracture.RimFracture` of a run, or None without ``fracture``."""
     from .fracture import RimFracture, criterion_of
 
     if fracture is None:
+        if crush_jacobian is not None:
+            raise ValueError("crush_jacobian needs fracture")
         return None
     fracture = criterion_of(fracture, bearing.rupture_strain)
     if erosion_steps and kinematics != "finite":
         raise ValueError("torn elements let go only with kinematics='finite' (or pass "
                          "erosion_steps=0 to track the damage alone)")
+    if crush_jacobian is not None and kinematics != "finite":
+        raise ValueError("crush_jacobian needs kinematics='finite' (det F)")
     return RimFracture(fracture, model.system.fe, model.mesh, bearing.rim_thickness,
-                       steps=erosion_steps)
+                       steps=erosion_steps, crush_jacobian=crush_jacobian)
 
 
 def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, edge_radius,
@@ -439,5 +455,6 @@ def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, ed
         edge_radius=edge_radius,
         rim_damage=h.damage if h.damage.size else np.zeros((0, 4)),
         torn_elements=dict(watch.fracture.torn) if watch.fracture is not None else {},
+        crushed_elements=dict(watch.fracture.crushed) if watch.fracture is not None else {},
         retained=None if watch.fracture is None else watch.fracture.retained.copy(),
     )

@@ -22,7 +22,8 @@ PLASTIC_STRAIN_LIMIT = 5.0
 
 def rim_of_nodes(model) -> np.ndarray:
     """The rim (index in :data:`RIMS`) of every contact slave node on a rim's inner face or
-    top, -1 for the others: for the rim forces and the impact step control."""
+    top, or inside a rim (Eq. F68c), -1 for the others: for the rim forces and the impact
+    step control."""
     mesh, nodes = model.mesh, model.system.nodes
     rim_of = np.full(len(nodes), -1)
     for plate in ("bottom", "top"):
@@ -37,6 +38,13 @@ def rim_of_nodes(model) -> np.ndarray:
         base = 0 if plate == "bottom" else 2
         rim_of[mask & ~side] = base
         rim_of[mask & side] = base + 1
+    # the vertices inside the rims, contact nodes once uncovered (Eq. F68c)
+    for plate in ("bottom", "top"):
+        inside = np.isin(nodes.nodes, mesh.t[:, mesh.subdomains[f"{plate}_rim"]]) & (rim_of < 0)
+        side = mesh.p[0, nodes.nodes] > 0
+        base = 0 if plate == "bottom" else 2
+        rim_of[inside & ~side] = base
+        rim_of[inside & side] = base + 1
     return rim_of
 
 

@@ -155,7 +155,7 @@ class PushRecord:
     """
 
     def __init__(self, bearing: DFPBearing, fe, plate: BottomPlate, fracture=None,
-                 erosion_steps: int = 0):
+                 erosion_steps: int = 0, crush_jacobian: float | None = None):
         from .limit_states import rim_gauge_average
 
         self.fe, self.plate = fe, plate
@@ -169,7 +169,7 @@ class PushRecord:
 
             self.tracker = RimFracture(criterion_of(fracture, bearing.rupture_strain), fe,
                                        plate.mesh, bearing.rim_thickness, steps=erosion_steps,
-                                       rims=("bottom +x",))
+                                       rims=("bottom +x",), crush_jacobian=crush_jacobian)
             # the pushed rim's elements and its rupture gauge (Eq. F52)
             self.rim, self.average = self.tracker.elements[0], self.tracker.gauges[0].operator
         else:
@@ -203,7 +203,8 @@ class PushRecord:
         tracker = self.tracker
         if tracker is None:
             return False
-        if tracker.update(delta, p, stress):
+        jacobian = self.fe.deformation(u)[1] if tracker.crush_jacobian is not None else None
+        if tracker.update(delta, p, stress, jacobian):
             self.fe.retained = tracker.retained.copy()
         out["damage"].append(tracker.rim_damage[0])
         out["triax"].append(tracker.rim_triaxiality[0])

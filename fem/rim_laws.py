@@ -36,7 +36,8 @@ PUNCHES = ("face", "slider")
 
 
 def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str | None = None,
-            punch: str = "face", edge_radius: float = EDGE_RADIUS, cache: bool = True) -> RimLaw:
+            punch: str = "face", edge_radius: float = EDGE_RADIUS,
+            crush_jacobian: float | None = None, cache: bool = True) -> RimLaw:
     """The law of the bearing's rims, from pushes of its rim by the FE companion, cached in the
     library's cache folder (:func:`rigid.rims.rim_law_cache_file`) per model, geometry and
     steel.
@@ -66,6 +67,9 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str |
         not (docs/fe-companion.md, "The rim pushed by the slider").
     edge_radius : float [m]
         With ``punch="slider"``: the slider's rounded edges (default 20 mm).
+    crush_jacobian : float [-], optional
+        With ``fracture``: the push through tearing also crushes the rim's elements below this
+        det F and lets the faces they uncover carry contact (Eqs. F67b, F68c; default none).
     cache : bool
         Read and write the cache.
 
@@ -79,25 +83,30 @@ def rim_law(bearing: DFPBearing, *, model: str = "plane-strain", fracture: str |
         raise ValueError("punch='slider' gives the law through tearing: give fracture= (the "
                          "law without tearing comes from the face push)")
     path = rim_law_cache_file(bearing, model, fracture,
-                              edge_radius=edge_radius if punch == "slider" else None)
+                              edge_radius=edge_radius if punch == "slider" else None,
+                              crush_jacobian=crush_jacobian)
     if cache and path.exists():
         return load_rim_law(path)
     if model == "ring":
         law = _ring_law(bearing)
     elif punch == "slider":
         law = _plane_strain_law(bearing, fracture, functools.partial(
-            rim_slider_push, edge_radius=edge_radius))
+            rim_slider_push, edge_radius=edge_radius), crush_jacobian)
     else:
+        if crush_jacobian is not None:
+            raise ValueError("crush_jacobian goes with punch='slider'")
         law = _plane_strain_law(bearing, fracture, rim_pushover)
     if cache:
         save_rim_law(law, path)
     return law
 
 
-def _plane_strain_law(bearing: DFPBearing, fracture: str | None, push) -> RimLaw:
+def _plane_strain_law(bearing: DFPBearing, fracture: str | None, push,
+                      crush_jacobian: float | None = None) -> RimLaw:
     """The law from pushes of the plane-strain rim by ``push`` (:func:`fem.rim_pushover` or
     :func:`fem.slider_push.rim_slider_push`): elastic, fine to the hinge, then to half the
-    rim height (without ``fracture``) or through tearing (with)."""
+    rim height (without ``fracture``) or through tearing (with; crushing too with
+    ``crush_jacobian``)."""
     elastic = push(bearing, displacement=ELASTIC_PUSH, steps=2, plasticity=False)
     stiffness = float(elastic.force[-1] / elastic.displacement[-1])
     reach, steps = FINE_PUSH
@@ -109,8 +118,9 @@ def _plane_strain_law(bearing: DFPBearing, fracture: str | None, push) -> RimLaw
         return rim_law_from_push(bearing, stiffness, fine, push(bearing))
     increment, erosion_steps = TEARING_PUSH
     reach = bearing.rim_thickness + bearing.rim_height
+    crush = {} if crush_jacobian is None else {"crush_jacobian": crush_jacobian}
     torn = push(bearing, displacement=reach, steps=round(reach / increment),
-                fracture=fracture, erosion_steps=erosion_steps, stop_short=True)
+                fracture=fracture, erosion_steps=erosion_steps, stop_short=True, **crush)
     return rim_law_through_tearing(bearing, stiffness, fine, torn)
 
 

@@ -58,6 +58,7 @@ def rim_slider_push(bearing: DFPBearing, *, edge_radius: float = EDGE_RADIUS,
                     displacement: float | None = None, steps: int = 40,
                     mesh_options: dict | None = None, plasticity: bool = True,
                     fracture=None, erosion_steps: int = 0, stop_short: bool = False,
+                    crush_jacobian: float | None = None,
                     penalty_factor: float = 10.0, tangential_ratio: float = 0.1,
                     cache_dir=None) -> Pushover:
     """Push the +x bottom rim with the slider moved along its pendulum path (Eq. F71), at
@@ -87,6 +88,8 @@ def rim_slider_push(bearing: DFPBearing, *, edge_radius: float = EDGE_RADIUS,
         As :func:`fem.rim_pushover`: the rim's ductile damage, its torn elements let go over
         N increments (a node no element holds any more leaves the contact), the push ended
         once the rim is off; stop where Newton fails instead of raising RuntimeError.
+    crush_jacobian : float [-], optional
+        With ``fracture``: rim elements crushed below this det F let go (Eq. F67b).
     penalty_factor, tangential_ratio : float [-]
         As :func:`fem.dfp.build_system` (ε_N = factor · E / h_c, ε_T / ε_N).
     cache_dir : path-like, optional
@@ -115,8 +118,11 @@ def rim_slider_push(bearing: DFPBearing, *, edge_radius: float = EDGE_RADIUS,
     steel = Material.from_bearing(bearing)
     steel = steel if plasticity else steel.elastic()
     nd = fe.basis.nodal_dofs
-    nodes = C.ContactNodes.from_mesh(
-        mesh, {"bottom_rim_inner": bearing.rim_friction, "bottom_rim_top": bearing.rim_friction})
+    faces = {"bottom_rim_inner": bearing.rim_friction, "bottom_rim_top": bearing.rim_friction}
+    nodes = C.ContactNodes.from_mesh(mesh, faces)
+    surface = None
+    if crush_jacobian is not None:  # every rim vertex a contact node once uncovered (F68c)
+        nodes, surface = C.with_rim_vertices(mesh, nodes, faces, bearing.rim_friction)
     keep = mesh.p[0, nodes.nodes] > 0.0  # the +x rim only
     nodes = dataclasses.replace(nodes, nodes=nodes.nodes[keep], length=nodes.length[keep],
                                 friction=nodes.friction[keep], plate=nodes.plate[keep])
@@ -133,17 +139,27 @@ def rim_slider_push(bearing: DFPBearing, *, edge_radius: float = EDGE_RADIUS,
         return slider_pose(bearing, math.asin((x_touch + delta) / arm))
 
     friction, offset = C.initial_state(shape, mesh.p[:, nodes.nodes], pose_at(0.0))
+    uncovered = np.zeros(len(nodes), dtype=bool)
     fixed = np.concatenate([nd[0, plate.support], nd[1, plate.support]])
     state = FiniteState.virgin(fe.point_shape)
     u = np.zeros(fe.ndofs)
-    record = PushRecord(bearing, fe, plate, fracture, erosion_steps)
+    record = PushRecord(bearing, fe, plate, fracture, erosion_steps, crush_jacobian)
     delta, h = 0.0, delta_end / steps
     while delta < delta_end * (1 - 1e-12):
         target = min(delta + h, delta_end)
         loose = record.loose(fixed)  # held, and out of the contact
         held = np.concatenate([fixed, loose])
-        in_contact = dataclasses.replace(
-            nodes, length=nodes.length * ~np.isin(node_dofs[0], loose))
+        length = nodes.length
+        if surface is not None and fe.retained is not None:
+            length = surface.lengths(fe.retained)[keep]
+            new = (length > 0.0) & (nodes.length == 0.0) & ~uncovered
+            if new.any():  # first uncovered: the slider's penetration is their δ₀ (F68c)
+                x = mesh.p[:, nodes.nodes[new]] + u[node_dofs[:, new]]
+                xi = C.body_coordinates(x, pose_at(delta))
+                offset = offset.copy()
+                offset[new] = np.maximum(C.penetration(shape, xi)[0], 0.0)
+                uncovered |= new
+        in_contact = dataclasses.replace(nodes, length=length * ~np.isin(node_dofs[0], loose))
         res = _newton(fe, steel, state, u, held, pose_at(target), shape, in_contact,
                       node_dofs, friction, offset, eps_n, tangential_ratio * eps_n)
         if res is None:  # cut the increment back

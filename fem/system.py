@@ -93,6 +93,9 @@ class CoupledSystem:
     vertex_depth : float [m]
         Deepest penetration of a slider vertex attributed to a plate facet
         (:func:`fem.contact.vertex_contact`; used if ``nodes.segments`` is set).
+    surface : fem.contact.ExposedSurface, optional
+        With every rim vertex among ``nodes``: the contact lengths as elements let go (Eq.
+        F68c; :meth:`erode`).
     """
 
     fe: PlaneStrainQ1
@@ -104,6 +107,7 @@ class CoupledSystem:
     tangential_penalty: float
     adjust: float = 1e-9
     vertex_depth: float = 0.02
+    surface: C.ExposedSurface | None = None
 
     def __post_init__(self):
         self.pose = np.asarray(self.pose, dtype=float)
@@ -118,13 +122,18 @@ class CoupledSystem:
         )
         self.initial_contact = cstate
         self._intact_nodes = self.nodes
+        self._uncovered = np.zeros(len(self.nodes), dtype=bool)  # Eq. F68c
 
-    def erode(self, retained: np.ndarray) -> None:
+    def erode(self, retained: np.ndarray, d: np.ndarray | None = None) -> None:
         """Let the elements keep the fractions ``retained`` (nelems,) [-] of their stiffness
         and stress (Eq. F68, finite kinematics); a contact node keeps the largest fraction
         among its elements of its tributary length, so that a torn rim's surface leaves the
-        contact (its nodes are gone when all their elements are). The plate dofs of the
-        vertices that no element holds any more are kept in :attr:`loose_dofs` (Eq. F69b)."""
+        contact (its nodes are gone when all their elements are), or, with :attr:`surface`,
+        the faces that the elements letting go uncover become contact surface (Eq. F68c).
+        A node uncovered there for the first time at the displacements ``d`` [m, rad] takes
+        the slider's penetration there, if any, as its gap adjustment δ₀ (Eq. F68c). The plate
+        dofs of the vertices that no element holds any more are kept in :attr:`loose_dofs`
+        (Eq. F69b)."""
         if not self.finite:
             raise ValueError("erosion needs finite kinematics")
         retained = np.asarray(retained, dtype=float)
@@ -134,7 +143,17 @@ class CoupledSystem:
         for corner in t:  # a vertex keeps the most that any of its elements keeps
             np.maximum.at(keep, corner, retained)
         nodes = self._intact_nodes
-        self.nodes = replace(nodes, length=nodes.length * keep[nodes.nodes])
+        if self.surface is None:
+            length = nodes.length * keep[nodes.nodes]
+        else:
+            length = self.surface.lengths(retained)
+            new = (length > 0.0) & (nodes.length == 0.0) & ~self._uncovered
+            if new.any() and d is not None:
+                xi = C.body_coordinates(self.slave_positions(d)[:, new], self.slider_pose(d))
+                self.offset = self.offset.copy()
+                self.offset[new] = np.maximum(C.penetration(self.shape, xi)[0], 0.0)
+            self._uncovered |= new
+        self.nodes = replace(nodes, length=length)
         # the dofs of the vertices no element holds any more: loose material (Eq. F69b)
         self.loose_dofs = self.fe.basis.nodal_dofs[:, keep == 0.0].ravel()
 

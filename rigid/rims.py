@@ -237,14 +237,16 @@ def _beyond_push(sets, forces, lever):
 
 def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain",
                        fracture: str | None = None, *,
-                       edge_radius: float | None = None) -> Path:
+                       edge_radius: float | None = None,
+                       crush_jacobian: float | None = None) -> Path:
     """Where the law of a bearing's rims is cached: ``rim-laws/<key>.npz`` in the library's
     cache folder (:func:`rigid.tasks.cache_root`), keyed by the model it comes from
     (:data:`RIM_LAW_MODELS`), the rim geometry and steel (every field of the bearing but the
     pressure), the push settings above, the fracture criterion of a law through tearing and
-    the edge radius [m] of the slider that pushed it (``fem.rim_law(..., punch="slider")``;
-    each keyed only when set) and the code of the pushing model and of this module
-    (``code_hash("fem", "rim-law")`` or ``code_hash("fem-ring", "rim-law")``)."""
+    the edge radius [m] of the slider that pushed it (``fem.rim_law(..., punch="slider")``)
+    and the push's crushing J_c (``crush_jacobian``), each keyed only when set, and the code
+    of the pushing model and of this module (``code_hash("fem", "rim-law")`` or
+    ``code_hash("fem-ring", "rim-law")``)."""
     from .tasks import cache_root, task_key
 
     if model not in RIM_LAW_MODELS:
@@ -259,6 +261,10 @@ def rim_law_cache_file(bearing: DFPBearing, model: str = "plane-strain",
     tearing = {} if fracture is None else {"fracture": fracture, "tearing": TEARING_PUSH}
     if edge_radius is not None:
         tearing["punch"] = {"slider": "pendulum path", "edge_radius": float(edge_radius)}
+    if crush_jacobian is not None:
+        if fracture is None:
+            raise ValueError("crushing goes with a law through tearing: give fracture")
+        tearing["crush_jacobian"] = float(crush_jacobian)
     key = task_key("rim-law", code, model=model, bearing=inputs, fine=FINE_PUSH,
                    elastic=ELASTIC_PUSH, lever=LEVER_FRACTION, last_cos=LAST_COS, **tearing)
     return cache_root() / "rim-laws" / f"{key}.npz"

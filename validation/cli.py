@@ -311,6 +311,12 @@ def _validate_parser(sub):
                    help="FE slider's rounded edges, radius [mm], below half the height of its "
                    "flat sides (default 0: sharp, the rigid model's; docs/fe-companion.md, "
                    "'Rounded slider edges')")
+    p.add_argument("--fem-crush", type=number(float, 0, 0.99, low_open=True), metavar="J_C",
+                   help="with --fem-fracture: also crush the rims' elements whose det F falls "
+                   "below J_C (in (0, 1); 0.1 in the thick rims' studies), and let the faces "
+                   "that eroded elements uncover carry contact, in the FE runs and in the "
+                   "slider's push for the law (default none; docs/theory/finite-elements.md, "
+                   "Eqs. F67b, F68c)")
     p.add_argument("--limit-state", nargs="+", choices=LIMIT_STATES, default=["hinge"],
                    help="FE limit states searched, each its own FE critical SA sharing the "
                    "same runs (default hinge; docs/theory/finite-elements.md, 'Limit states')")

@@ -294,6 +294,12 @@ def _rim_punch_edges(args, rim_fracture) -> float | None:
     return args.fem_edge_radius / 1e3 if args.fem_edge_radius else EDGE_RADIUS
 
 
+def _crush(args, slider_edges) -> float | None:
+    """The law's crushing J_c: ``--fem-crush``'s when the slider pushes the rim for the law
+    (``--rim-punch slider``), which then crushes as the FE runs do; else None."""
+    return args.fem_crush if slider_edges is not None else None
+
+
 def validate(args) -> int:
     """Critical SA by time history and its pulse-based prediction over a record set; report."""
     import time
@@ -323,13 +329,17 @@ def validate(args) -> int:
     if args.fem and unknown:
         raise CommandError(f"--fem-pressure {unknown[0]:g} is not one of --pressure "
                            f"{' '.join(f'{p:g}' for p in args.pressure)}")
+    if args.fem_crush is not None and not (args.fem and args.fem_fracture):
+        raise CommandError("--fem-crush goes with FE runs and --fem-fracture (the rims' "
+                           "crushed elements let go as torn ones do)")
     fem = None
     if args.fem:
         step = args.fem_step or (QUICK_FEM_STEP if args.quick else FULL_FEM_STEP)
         fem = FESettings(mesh=args.fem_mesh, max_step=step, impact_step=min(5e-4, step),
                          kinematics=args.fem_kinematics,
                          limit_states=tuple(dict.fromkeys(args.limit_state)),
-                         fracture=args.fem_fracture, edge_radius=args.fem_edge_radius / 1e3)
+                         fracture=args.fem_fracture, edge_radius=args.fem_edge_radius / 1e3,
+                         crush_jacobian=args.fem_crush)
     bearing = tuple(fields.items())
     if args.rim_model == "ring" and fem is not None and len(fem.limit_states) != 1:
         raise CommandError("--rim-model ring gives the FE rims the ring's effective depth at "
@@ -342,7 +352,8 @@ def validate(args) -> int:
     rim_fracture = args.rim_fracture or (
         args.fem_fracture if fem is not None and args.rim_model == "plane-strain" else None)
     slider_edges = _rim_punch_edges(args, rim_fracture)
-    _store_rim_laws(args, out, bearing, rim_fracture, slider_edges, fem is not None)
+    crush = _crush(args, slider_edges)
+    _store_rim_laws(args, out, bearing, rim_fracture, slider_edges, fem is not None, crush)
     if args.rim_model == "ring" and fem is not None:
         fem = dataclasses.replace(fem, rim_depth=_ring_depth(bearing, fem.limit_states))
     settings = Settings(
@@ -354,7 +365,8 @@ def validate(args) -> int:
         yielding_states=None if args.fem else tuple(dict.fromkeys(args.limit_state)),
         bearing=bearing, rim_model=args.rim_model, rim_fracture=rim_fracture,
         **({} if slider_edges is None
-           else {"rim_punch": "slider", "rim_edge_radius": slider_edges}),
+           else {"rim_punch": "slider", "rim_edge_radius": slider_edges,
+                 "rim_crush": crush}),
     )
     if not args.replay:
         with open(out / "progress.log", "a") as fh:  # a first line at once (#32): rims' law
@@ -383,7 +395,7 @@ def validate(args) -> int:
 
 
 def _store_rim_laws(args, out: Path, bearing: tuple, rim_fracture, slider_edges,
-                    with_fem: bool) -> None:
+                    with_fem: bool, crush: float | None = None) -> None:
     """The rim laws the run uses, pushed (or carried over with ``--rekey-from``) and kept in
     its store, so that the run replays elsewhere (:mod:`validation.stored_rim_laws`)."""
     laws = ([args.rim_model] if "yielding" in args.rims else []) + (
@@ -397,7 +409,7 @@ def _store_rim_laws(args, out: Path, bearing: tuple, rim_fracture, slider_edges,
 
     pushed = DFPBearing(**dict(bearing))
     which = {"fracture": rim_fracture if "yielding" in args.rims else None,
-             "edge_radius": slider_edges}
+             "edge_radius": slider_edges, "crush_jacobian": crush}
     try:
         with ResultStore(out / "results.sqlite") as store:
             if args.rekey_from:

@@ -57,7 +57,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
             free: float = 20.0, lead: float = 0.1, margin: float = 1.0,
             kinematics: str = "finite", limit_state: str = "hinge",
             rim_depth: float | None = None, fracture: str | None = None,
-            edge_radius: float = 0.0, simulate=None) -> dict:
+            edge_radius: float = 0.0, crush_jacobian: float | None = None,
+            simulate=None) -> dict:
     """One FE run of a scaled record, trimmed (module docstring); runs in a worker.
 
     Parameters
@@ -93,6 +94,9 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         the rupture strain, and the steel never tears).
     edge_radius : float [m]
         :func:`fem.simulate`'s rounded slider edges (default 0: sharp).
+    crush_jacobian : float [-], optional
+        With ``fracture``: :func:`fem.simulate`'s crushing of rim elements (Eq. F67b; default
+        none).
     simulate : callable, optional
         Stand-in for :func:`fem.simulate` (tests).
 
@@ -110,7 +114,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         ``dofs``, ``max_plastic_strain``,
         ``max_rim_force`` [N], ``cpu_seconds``, ``wall_seconds``; with ``fracture`` also
         ``torn_elements`` (how many tore) and ``fracture_energy`` [J] (the energy they
-        released).
+        released); with ``crush_jacobian`` also ``crushed_elements`` (how many of those were
+        crushed).
     """
 
     if simulate is None:
@@ -137,7 +142,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
     total = record_end + free - t0
     durations = [total if trim == "none" else _duration_guess(b, a, dt, window, total, margin),
                  total]
-    options = {"rim_depth": rim_depth, "fracture": fracture, "edge_radius": edge_radius}
+    options = {"rim_depth": rim_depth, "fracture": fracture, "edge_radius": edge_radius,
+               "crush_jacobian": crush_jacobian}
     options = {k: v for k, v in options.items() if v}  # what is set: the model's defaults
     for duration in dict.fromkeys(durations):  # the guess, then (if needed) the whole rest
         res = simulate(b, a[window.start:], dt, duration=duration,
@@ -160,6 +166,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         if fracture:  # the last run's, as the verdict
             out.update(torn_elements=len(res.torn_elements),
                        fracture_energy=float(res.energy["fracture"][-1]))
+        if crush_jacobian:
+            out["crushed_elements"] = len(res.crushed_elements)
         # Eq. C15, on what can still move the bearing: less the falling pieces (Eq. F69b)
         out["quiet"] = bool(energy[-1] - res.energy["loose_kinetic"][-1] < QUIET_FRACTION * reach)
         if res.failed or res.numerical_failure or out["quiet"]:

@@ -97,8 +97,8 @@ class FESettings:
     """How the FE critical SA is searched. Keyed into every stored FE run (with the bearing,
     the record and the scale), except ``limit_states``: the runs stop at the last of them
     (:func:`run_limit_state`), so the searches of all of them share their runs. ``rim_depth``,
-    ``fracture`` and ``edge_radius`` [m] (:func:`fem_run`'s) key a run only when set, so the
-    runs of the model's defaults keep their keys."""
+    ``fracture``, ``edge_radius`` [m] and ``crush_jacobian`` [-] (:func:`fem_run`'s) key a run
+    only when set, so the runs of the model's defaults keep their keys."""
 
     mesh: str = "coarse"
     max_step: float = 5e-3
@@ -112,6 +112,7 @@ class FESettings:
     rim_depth: float | None = None
     fracture: str | None = None
     edge_radius: float = 0.0
+    crush_jacobian: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "limit_states", check_limit_states(self.limit_states))
@@ -123,12 +124,17 @@ class FESettings:
                              f"got {self.fracture!r}")
         if not (math.isfinite(self.edge_radius) and self.edge_radius >= 0):
             raise ValueError(f"edge_radius must be a length ≥ 0 [m], got {self.edge_radius!r}")
+        if self.crush_jacobian is not None and (
+                self.fracture is None or not 0.0 < self.crush_jacobian < 1.0):
+            raise ValueError("crush_jacobian goes with fracture and lies in (0, 1), got "
+                             f"{self.crush_jacobian!r}")
 
     def run_options(self) -> dict:
         """Keyword arguments of :func:`fem_run` (what keys a stored run)."""
         options = dataclasses.asdict(self)
         del options["limit_states"]
-        for name, default in (("rim_depth", None), ("fracture", None), ("edge_radius", 0.0)):
+        for name, default in (("rim_depth", None), ("fracture", None), ("edge_radius", 0.0),
+                              ("crush_jacobian", None)):
             if options[name] == default:  # the model's: the keys of runs without it
                 del options[name]
         return {**options, "limit_state": run_limit_state(self.limit_states)}
@@ -150,7 +156,10 @@ class FESettings:
                                        else f"{self.rim_depth:.3f} (3-D effective depth)"),
                 "FE rim fracture": ("none: the rupture is the rupture strain over its gauge"
                                     if self.fracture is None else
-                                    f"{self.fracture} ductile damage; torn elements let go"),
+                                    f"{self.fracture} ductile damage; torn elements let go"
+                                    + ("" if self.crush_jacobian is None else
+                                       f", and crushed ones (det F < {self.crush_jacobian:g}),"
+                                       " uncovering faces that carry contact")),
                 "FE slider edges": ("sharp" if not self.edge_radius
                                     else f"rounded, radius {self.edge_radius * 1e3:g} mm")}
 

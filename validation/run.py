@@ -59,6 +59,9 @@ class Settings:
         slider only with ``rim_fracture``).
     rim_edge_radius : float [m]
         The pushing slider's rounded edges (``rim_punch="slider"``).
+    rim_crush : float [-] or None
+        The slider's push also crushes the rim's elements below this det F (Eq. F67b;
+        :func:`fem.rim_law`'s ``crush_jacobian``); None: it does not.
     """
 
     pressures: tuple = (60e6, 10e6)
@@ -76,12 +79,15 @@ class Settings:
     rim_fracture: str | None = None
     rim_punch: str = "face"
     rim_edge_radius: float = 0.02
+    rim_crush: float | None = None
 
     def rim_law_options(self) -> dict:
         """:func:`fem.rim_law`'s keywords for the yielding rims' law."""
         options = {"model": self.rim_model, "fracture": self.rim_fracture}
         if self.rim_punch != "face":
             options.update(punch=self.rim_punch, edge_radius=self.rim_edge_radius)
+        if self.rim_crush is not None:
+            options.update(crush_jacobian=self.rim_crush)
         return options
 
     def bearing_at(self, pressure: float) -> DFPBearing:
@@ -107,6 +113,7 @@ class Settings:
                   f"{self.rim_model} push"
                   + (f" by the slider (edges {self.rim_edge_radius * 1e3:g} mm)"
                      if self.rim_punch == "slider" else "")
+                  + (f", crushed below det F = {self.rim_crush:g}" if self.rim_crush else "")
                   + (f", through tearing ({self.rim_fracture})" if self.rim_fracture else "")
                   + ")"
                   if self.ladder_states() else "")}

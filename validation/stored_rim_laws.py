@@ -61,37 +61,49 @@ def _from_json(data: dict) -> RimLaw:
 
 def stored_rim_law(store: ResultStore, bearing: DFPBearing, model: str = "plane-strain",
                    fracture: str | None = None, *,
-                   edge_radius: float | None = None) -> RimLaw | None:
+                   edge_radius: float | None = None,
+                   crush_jacobian: float | None = None) -> RimLaw | None:
     """The law of ``bearing``'s rims that ``store`` holds under today's key (the arguments
     of :func:`rigid.rims.rim_law_cache_file`), or None."""
-    data = store.get(rim_law_cache_file(bearing, model, fracture, edge_radius=edge_radius).stem)
+    data = store.get(rim_law_cache_file(bearing, model, fracture, edge_radius=edge_radius,
+                                        crush_jacobian=crush_jacobian).stem)
     return None if data is None else _from_json(data)
 
 
-def _wanted(models, fracture, edge_radius):
-    """(model, fracture set or None, slider edge radius or None) of each law wanted."""
-    wanted = [(model, None, None) for model in dict.fromkeys(models)]
+def _wanted(models, fracture, edge_radius, crush_jacobian=None):
+    """(model, fracture set or None, the push's keywords of
+    :func:`rigid.rims.rim_law_cache_file`: slider edge radius and crushing J_c, each or None)
+    of each law wanted."""
+    plain = {"edge_radius": None, "crush_jacobian": None}
+    wanted = [(model, None, plain) for model in dict.fromkeys(models)]
     if fracture is not None:
-        wanted.append(("plane-strain", fracture, edge_radius))
+        wanted.append(("plane-strain", fracture,
+                       {"edge_radius": edge_radius, "crush_jacobian": crush_jacobian}))
     return wanted
 
 
-def _push(bearing: DFPBearing, model: str, fracture, edge_radius) -> RimLaw:
-    """The law pushed by today's FE code (cached by :func:`fem.rim_law`)."""
+def _push(bearing: DFPBearing, model: str, fracture, push: dict) -> RimLaw:
+    """The law pushed by today's FE code (cached by :func:`fem.rim_law`); ``push`` as
+    :func:`_wanted` gives it."""
     from fem import rim_law
 
-    punch = {} if edge_radius is None else {"punch": "slider", "edge_radius": edge_radius}
+    punch = ({} if push["edge_radius"] is None
+             else {"punch": "slider", "edge_radius": push["edge_radius"]})
+    if push["crush_jacobian"] is not None:
+        punch["crush_jacobian"] = push["crush_jacobian"]
     return rim_law(bearing, model=model, fracture=fracture, **punch)
 
 
 def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
                   replay: bool = False, fracture: str | None = None,
-                  edge_radius: float | None = None) -> None:
+                  edge_radius: float | None = None,
+                  crush_jacobian: float | None = None) -> None:
     """Make the rim laws of ``bearing`` from each of ``models`` ("plane-strain", "ring") be
     both in ``store`` and in the library's cache, so that :func:`fem.rim_law` and
     :func:`fem.effective_rim_depth` read them; with ``fracture``, the plane-strain law
     through tearing with that set too (:func:`fem.rim_law`'s ``fracture``), pushed by the
-    slider with edges of ``edge_radius`` [m] when given (``punch="slider"``).
+    slider with edges of ``edge_radius`` [m] when given (``punch="slider"``), crushing the
+    rim's elements below ``crush_jacobian`` when given.
 
     A law found in the store is written to the cache if the cache lacks it or holds another
     (the same push made on another machine rounds differently); a law in neither
@@ -100,8 +112,8 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
     """
 
     missing = []
-    for model, torn, slider in _wanted(models, fracture, edge_radius):
-        path = rim_law_cache_file(bearing, model, torn, edge_radius=slider)
+    for model, torn, push in _wanted(models, fracture, edge_radius, crush_jacobian):
+        path = rim_law_cache_file(bearing, model, torn, **push)
         key = path.stem
         stored = store.get(key)
         if stored is not None:
@@ -115,7 +127,7 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
         elif replay:
             missing.append(model)
         else:
-            store.put(key, "rim-law", _to_json(_push(bearing, model, torn, slider)))
+            store.put(key, "rim-law", _to_json(_push(bearing, model, torn, push)))
     if missing:
         from collections import Counter
 
@@ -124,6 +136,7 @@ def keep_rim_laws(store: ResultStore, bearing: DFPBearing, models, *,
 
 def carry_rim_laws(store: ResultStore, bearing: DFPBearing, models, revision: str, *,
                    fracture: str | None = None, edge_radius: float | None = None,
+                   crush_jacobian: float | None = None,
                    keep_differing: bool = False) -> list[str]:
     """``--rekey-from revision``: copy the laws that ``store`` holds under the keys of
     ``revision``'s code (the arguments as :func:`keep_rim_laws`') to today's keys, each once
@@ -142,16 +155,15 @@ def carry_rim_laws(store: ResultStore, bearing: DFPBearing, models, revision: st
     from rigid.tasks.rekey import RekeyError, code_at
 
     lines = []
-    for model, torn, slider in _wanted(models, fracture, edge_radius):
-        new = rim_law_cache_file(bearing, model, torn, edge_radius=slider).stem
+    for model, torn, push in _wanted(models, fracture, edge_radius, crush_jacobian):
+        new = rim_law_cache_file(bearing, model, torn, **push).stem
         if new in store:
             continue
         with code_at(revision, today=()):
-            stored = store.get(rim_law_cache_file(bearing, model, torn,
-                                                  edge_radius=slider).stem)
+            stored = store.get(rim_law_cache_file(bearing, model, torn, **push).stem)
         if stored is None:
             continue
-        differ = law_differences(_push(bearing, model, torn, slider), _from_json(stored))
+        differ = law_differences(_push(bearing, model, torn, push), _from_json(stored))
         name = f"the {model} rim law{'' if torn is None else ' through tearing'}"
         if differ and not keep_differing:
             raise RekeyError(f"{name} pushed with today's code differs from the one stored "

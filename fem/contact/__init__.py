@@ -4,6 +4,7 @@ nodes (:mod:`fem.contact.nodes`) and, optionally, at the slider's vertices
 (:mod:`fem.contact.vertices`). Forces are per unit out-of-plane depth [N/m], moments [N·m/m];
 the formulation is in ``docs/theory/finite-elements.md``, "Contact"."""
 
+from .exposed import ExposedSurface, with_rim_vertices
 from .nodes import ContactNodes, ContactResult, ContactState, assemble, evaluate, initial_state
 from .slider import (
     BOTTOM,
@@ -27,6 +28,7 @@ __all__ = [
     "ContactNodes",
     "ContactResult",
     "ContactState",
+    "ExposedSurface",
     "SliderShape",
     "VertexContact",
     "add_vertices",
@@ -37,4 +39,5 @@ __all__ = [
     "penetration",
     "rotation",
     "vertex_contact",
+    "with_rim_vertices",
 ]

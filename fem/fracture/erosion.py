@@ -26,7 +26,9 @@ class RimFracture:
     (Eq. F67) and then keeps 1 − k/N of its stiffness and stress k accepted steps later, N =
     ``steps``, until none is left (Eq. F68). Torn elements add no strain to the gauges. Rim
     elements that the gone ones leave joined to no plate (across element edges) are a loose
-    fragment and let go in the same way (Eq. F68b).
+    fragment and let go in the same way (Eq. F68b). With ``crush_jacobian``, a whole rim element
+    whose deformation gradient's determinant at any of its points falls below it is crushed
+    and lets go as a torn one does (Eq. F67b).
 
     Parameters
     ----------
@@ -43,13 +45,18 @@ class RimFracture:
     rims : sequence of str, optional
         The rims watched (default all four, ``fem.limit_states.RIMS``; the static rim push
         watches ``("bottom +x",)``).
+    crush_jacobian : float [-], optional
+        J_c of Eq. F67b, in (0, 1); default None: nothing is crushed.
 
     Attributes
     ----------
     retained : ndarray, shape (nelems,) [-]
         Fraction of its stiffness and stress each element keeps.
     torn : dict
-        Element → (time [s], rim) at which it tore, in the order they tore.
+        Element → (time [s], rim) at which it tore, in the order they tore (crushed ones
+        included).
+    crushed : dict
+        Element → (time [s], rim) of the torn elements that were crushed (Eq. F67b).
     loose : dict
         Element → (time [s], rim) at which it was cut off in a loose fragment (Eq. F68b).
     rim_damage : list of float
@@ -61,11 +68,14 @@ class RimFracture:
     """
 
     def __init__(self, criterion: StressModifiedStrain, fe, mesh, gauge: float,
-                 steps: int = 10, rims=None):
+                 steps: int = 10, rims=None, crush_jacobian: float | None = None):
         from fem.limit_states import RIMS, rim_gauge_average
 
         if int(steps) != steps or steps < 0:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+        if crush_jacobian is not None and not 0.0 < crush_jacobian < 1.0:
+            raise ValueError(f"crush_jacobian must lie in (0, 1), got {crush_jacobian!r}")
+        self.crush_jacobian = crush_jacobian
         self.criterion = criterion
         self.steps = int(steps)
         self.rims = tuple(RIMS if rims is None else rims)
@@ -77,6 +87,7 @@ class RimFracture:
             self.gauges.append(GaugeDamage(criterion, operator))
         self.retained = np.ones(fe.dx.shape[0])
         self.torn: dict = {}
+        self.crushed: dict = {}
         self.loose: dict = {}
         self._edges = _edge_adjacency(mesh)
         self._anchored = np.ones(self.retained.size, dtype=bool)  # plates: never torn
@@ -90,9 +101,11 @@ class RimFracture:
         """(time [s], rim) of the first element that tore, or None."""
         return next(iter(self.torn.values()), None)
 
-    def update(self, t: float, plastic_strain: np.ndarray, stress: np.ndarray) -> bool:
+    def update(self, t: float, plastic_strain: np.ndarray, stress: np.ndarray,
+               jacobian: np.ndarray | None = None) -> bool:
         """Add an accepted step at time t [s]: equivalent plastic strain (nelems, nqp) [-],
-        Mandel stress (4, nelems, nqp) [Pa]. Returns whether :attr:`retained` changed."""
+        Mandel stress (4, nelems, nqp) [Pa] and, for Eq. F67b, det F (nelems, nqp) [-].
+        Returns whether :attr:`retained` changed."""
         before = self.retained.copy()
         if self.steps:  # the elements already letting go lose another 1/N (Eq. F68)
             going = self.retained < 1.0
@@ -107,10 +120,16 @@ class RimFracture:
                 self.rim_triaxiality[k] = float(gauge.triaxiality[np.argmax(damage)])
             element = damage.reshape(elems.size, self.nqp).max(axis=1)  # Eq. F67
             self.rim_damage[k] = float(element.max()) if element.size else 0.0
-            for e in elems[(element >= 1.0) & whole]:
+            torn = (element >= 1.0) & whole
+            crushed = np.zeros_like(torn)
+            if self.crush_jacobian is not None and jacobian is not None:  # Eq. F67b
+                crushed = (jacobian[elems].min(axis=1) < self.crush_jacobian) & whole & ~torn
+            for e in elems[torn | crushed]:
                 self.torn.setdefault(int(e), (t, self.rims[k]))
                 if self.steps:
                     self.retained[e] = 1.0 - 1.0 / self.steps
+            for e in elems[crushed]:
+                self.crushed.setdefault(int(e), (t, self.rims[k]))
         if self.steps and ((self.retained == 0.0) & (before > 0.0)).any():
             self._let_loose_go(t)
         return bool((self.retained != before).any())

@@ -5,9 +5,11 @@ slider's pose there against the rims' corners (the test of Eq. F37 in
 docs/theory/finite-elements.md).
 
 Run: ``OMP_NUM_THREADS=1 python -m validation.studies.thick_rim_containment [--thicknesses
-120 160 240] [--sa 0.22 0.34] [--pressure 60] [--record B-PTS_037]``; writes
-``docs/results/thick_rim_containment.csv`` and, for the first run, the deformed bearing at its
-end (``docs/images/thick_rim_containment.png``). Under a minute of CPU a run.
+120 160 240] [--sa 0.22 0.34] [--pressure 60] [--record B-PTS_037] [--crush J_C ...]``;
+writes ``docs/results/thick_rim_containment.csv`` and, for the first run, the deformed bearing
+at its end (``docs/images/thick_rim_containment.png``); with ``--crush``, the rims' elements
+are also crushed below each J_c given (Eq. F67b), into ``thick_rim_containment_crush.csv``
+and ``thick_rim_containment_crush.png``. Under a minute of CPU a run.
 """
 
 from __future__ import annotations
@@ -54,9 +56,11 @@ def closest_rim(result) -> dict:
     return {"rim": name, "overshoot_mm": over * 1e3, "climb_left_mm": left * 1e3}
 
 
-def run(thickness: float, pressure: float, motion, sa_g: float) -> tuple[dict, object]:
+def run(thickness: float, pressure: float, motion, sa_g: float,
+        crush_jacobian: float | None = None) -> tuple[dict, object]:
     """One FE containment run of ``motion`` scaled to ``sa_g`` [g] with rims ``thickness``
-    [m] thick under ``pressure`` [Pa]: (row of the CSV, the FE result)."""
+    [m] thick under ``pressure`` [Pa], rim elements crushed below ``crush_jacobian`` (Eq.
+    F67b; default none): (row of the CSV, the FE result)."""
     bearing = DFPBearing(pressure=pressure, rim_thickness=thickness)
     # the record scaled to SA(Tb) with 5 % damping, as the ladders scale records (Eq. M15)
     scale = scale_factor(motion.acceleration, motion.dt, sa_g * G, bearing.design_period)
@@ -70,12 +74,15 @@ def run(thickness: float, pressure: float, motion, sa_g: float) -> tuple[dict, o
     with threadpool_limits(1):
         out = fem_run(dataclasses.asdict(bearing), motion.acceleration, motion.dt,
                       scale, limit_state="containment", fracture="median",
-                      edge_radius=EDGE_RADIUS, simulate=simulate)
+                      edge_radius=EDGE_RADIUS, crush_jacobian=crush_jacobian,
+                      simulate=simulate)
     r = captured["result"]
     outcome = ("numerical" if out["numerical_failure"] else out["failure_mode"] or "contained")
     row = {"rim_thickness_mm": thickness * 1e3, "pressure_mpa": pressure / 1e6,
            "record": motion.name, "sa_g": sa_g, "outcome": outcome, "end_s": out["end"],
            "detail": out["detail"] or "", "torn_elements": out["torn_elements"],
+           **({} if crush_jacobian is None else
+              {"crush_jacobian": crush_jacobian, "crushed_elements": out["crushed_elements"]}),
            "max_plastic_strain": out["max_plastic_strain"],
            "max_rim_force_mn": out["max_rim_force"] / 1e6,
            "slider_x_mm": r.slider_displacement[-1] * 1e3,
@@ -95,21 +102,25 @@ def main(argv=None) -> int:
     p.add_argument("--pressure", type=float, default=60, help="bearing pressure [MPa]")
     p.add_argument("--record", default="B-PTS_037",
                    help="a near-field pulse component, by a part of its name")
+    p.add_argument("--crush", type=float, nargs="+", default=None, metavar="J_C",
+                   help="crush rim elements below each of these det F (Eq. F67b)")
     args = p.parse_args(argv)
     motion = next((m for m in fema_p695("nearfield_pulse") if args.record in m.name), None)
     if motion is None:
         p.error(f"no near-field pulse component named like {args.record!r}")
     rows = []
-    for thickness in args.thicknesses:
-        for sa in args.sa:
-            row, result = run(thickness / 1e3, args.pressure * 1e6, motion, sa)
-            rows.append(row)
-            print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
-                            for k, v in row.items()), flush=True)
-            if len(rows) == 1:
-                render_result(IMAGES / "thick_rim_containment.png", result,
-                              title=f"{thickness:.0f} mm rims, {sa} g: the run's end")
-    print(write_csv(rows, RESULTS / "thick_rim_containment.csv"))
+    suffix = "" if args.crush is None else "_crush"
+    for crush in [None] if args.crush is None else args.crush:
+        for thickness in args.thicknesses:
+            for sa in args.sa:
+                row, result = run(thickness / 1e3, args.pressure * 1e6, motion, sa, crush)
+                rows.append(row)
+                print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
+                                for k, v in row.items()), flush=True)
+                if len(rows) == 1:
+                    render_result(IMAGES / f"thick_rim_containment{suffix}.png", result,
+                                  title=f"{thickness:.0f} mm rims, {sa} g: the run's end")
+    print(write_csv(rows, RESULTS / f"thick_rim_containment{suffix}.csv"))
     return 0
 
 
