@@ -34,3 +34,15 @@ def test_floats_compare_to_the_tolerance_and_everything_else_exactly():
                          ("mode", "yielding")):
         assert [d.split(":")[0] for d in _differences({**stored, field: value}, stored)] == [
             field]
+
+
+def test_a_value_not_reached_on_both_sides_is_the_same():
+    """NaN stored and NaN now (a rung that never touched a rim has no impact velocity) is no
+    difference, though NaN != NaN; NaN on one side only is one."""
+    nan = float("nan")
+    stored = {"rungs": [{"max_impact_velocity": nan, "failed": False}]}
+    assert _differences({"rungs": [{"max_impact_velocity": nan, "failed": False}]},
+                        stored) == []
+    assert [d.split(":")[0] for d in _differences(
+        {"rungs": [{"max_impact_velocity": 0.4, "failed": False}]}, stored)] == [
+        "rungs[0].max_impact_velocity"]

@@ -210,12 +210,18 @@ def _within_effort(where: str, now, then) -> bool:
             and abs(now - then) <= max(1.0, EFFORT_RTOL * max(abs(now), abs(then))))
 
 
+def _both_nan(now, then) -> bool:
+    """Whether both values are NaN (a quantity the run did not reach, e.g. the impact
+    velocity of a rung that never touched a rim): the same result, though NaN != NaN."""
+    return all(isinstance(x, float) and math.isnan(x) for x in (now, then))
+
+
 def _differences(now, then, rtol: float = RTOL) -> list[str]:
     """Where two results read back from JSON differ (floats by more than ``rtol``
     relative, the solver's effort beyond :data:`EFFORT_RTOL`), with both values: what a
     refused re-keying reports."""
     return [f"{where}: {a!r} now, {b!r} stored" for where, a, b in _leaves(now, then)
-            if a != b and not _within_effort(where, a, b)
+            if a != b and not _both_nan(a, b) and not _within_effort(where, a, b)
             and ((change := _relative_change(a, b)) is None or change > rtol)]
 
 
