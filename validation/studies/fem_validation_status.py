@@ -38,17 +38,19 @@ from . import FEM_VALIDATION
 
 
 def run_settings(limit_states=("hinge",), rim_thickness_mm=None, fracture=None,
-                 edge_radius_mm=0.0, rim_punch="face") -> Settings:
+                 edge_radius_mm=0.0, rim_punch="face", crush=None) -> Settings:
     """The settings of ``dfp validate`` without ``--quick`` (FE steps 0.005 s), with
     ``--rim-thickness``, ``--fem-fracture`` (and so the rigid model's law through tearing),
-    ``--fem-edge-radius`` and ``--rim-punch`` when given."""
+    ``--fem-edge-radius``, ``--rim-punch`` and ``--fem-crush`` when given."""
     from fem.slider_push import EDGE_RADIUS
 
     bearing = () if rim_thickness_mm is None else (("rim_thickness", rim_thickness_mm / 1e3),)
     punch = {} if rim_punch == "face" else {
-        "rim_punch": rim_punch, "rim_edge_radius": edge_radius_mm / 1e3 or EDGE_RADIUS}
+        "rim_punch": rim_punch, "rim_edge_radius": edge_radius_mm / 1e3 or EDGE_RADIUS,
+        "rim_crush": crush}
     return Settings(fem=FESettings(max_step=0.005, limit_states=tuple(limit_states),
-                                   fracture=fracture, edge_radius=edge_radius_mm / 1e3),
+                                   fracture=fracture, edge_radius=edge_radius_mm / 1e3,
+                                   crush_jacobian=crush),
                     rims=("rigid", "yielding"), bearing=bearing, rim_fracture=fracture,
                     **punch)
 
@@ -64,7 +66,8 @@ def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
             keep_rim_laws(store, settings.bearing_at(settings.pressures[0]),
                           [settings.rim_model], replay=True, fracture=settings.rim_fracture,
                           edge_radius=(settings.rim_edge_radius
-                                       if settings.rim_punch == "slider" else None))
+                                       if settings.rim_punch == "slider" else None),
+                          crush_jacobian=settings.rim_crush)
         tasks, index = rigid_tasks(motions, settings, out)
         searches = FESearches(settings.fem, step=settings.step, start=settings.step,
                               stop=settings.stop, stored=store.get)
@@ -119,10 +122,11 @@ def main() -> None:
                    help="the run's --fem-edge-radius [mm]")
     p.add_argument("--rim-punch", choices=("face", "slider"), default="face",
                    help="the run's --rim-punch")
+    p.add_argument("--fem-crush", type=float, default=None, help="the run's --fem-crush")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
     settings = run_settings(args.limit_state, args.rim_thickness, args.fem_fracture,
-                            args.fem_edge_radius, args.rim_punch)
+                            args.fem_edge_radius, args.rim_punch, args.fem_crush)
     try:
         rows = replay(args.out, settings, motions)
     except MissingResultsError as exc:  # the rim law of other settings
