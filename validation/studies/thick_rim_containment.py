@@ -25,7 +25,7 @@ from threadpoolctl import threadpool_limits
 import fem
 from fem.contact import SliderShape
 from fem.limit_states import corner_nodes, rim_overshoots, slider_vertex_positions
-from fem.output import nodal_displacement, render_result
+from fem.output import nodal_displacement, render_state
 from fem.slider_push import EDGE_RADIUS  # 20 mm, the validations' --fem-edge-radius
 from rigid import DFPBearing, G, fema_p695, scale_factor
 from rigid.collapse.comparison import write_csv
@@ -54,6 +54,22 @@ def closest_rim(result) -> dict:
             best = max(best, (over, name, left), key=lambda candidate: candidate[0])
     over, name, left = best
     return {"rim": name, "overshoot_mm": over * 1e3, "climb_left_mm": left * 1e3}
+
+
+def render_end(path, result, title: str):
+    """The run's final state (:func:`fem.output.render_state`) without the elements that
+    have let go altogether (Eq. F68; their vertices fall free, Eq. F69b), around the slider."""
+    from skfem import MeshQuad1
+
+    keep = (np.ones(result.mesh.t.shape[1], dtype=bool) if result.retained is None
+            else result.retained > 0.0)
+    mesh = MeshQuad1(result.mesh.p, result.mesh.t[:, keep])
+    d = result.final_displacement
+    pose = np.array([0.0, result.bearing.slider_height / 2, 0.0]) + d[-3:]
+    return render_state(path, mesh, SliderShape.from_bearing(result.bearing, result.edge_radius),
+                        d, pose, result.final_stress[:, keep],
+                        result.final_plastic_strain[keep], title=title,
+                        focus=(pose[0], pose[1], 0.35))
 
 
 def run(thickness: float, pressure: float, motion, sa_g: float,
@@ -118,8 +134,8 @@ def main(argv=None) -> int:
                 print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
                                 for k, v in row.items()), flush=True)
                 if len(rows) == 1:
-                    render_result(IMAGES / f"thick_rim_containment{suffix}.png", result,
-                                  title=f"{thickness:.0f} mm rims, {sa} g: the run's end")
+                    render_end(IMAGES / f"thick_rim_containment{suffix}.png", result,
+                               f"{thickness:.0f} mm rims, {sa} g: the run's end")
     print(write_csv(rows, RESULTS / f"thick_rim_containment{suffix}.csv"))
     return 0
 
