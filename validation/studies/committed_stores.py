@@ -57,6 +57,10 @@ REPLAYABLE = {
     "fem-validation-fracture-rims80": ["--rim-thickness", "80", "--limit-state", "containment",
                                        "--fem-fracture", "median", "--fem-edge-radius", "20",
                                        "--rim-punch", "slider"],
+    # made 2026-11-29: the 40 mm containment with crushing and uncovered faces (Eqs. F67b, F68c)
+    "fem-validation-fracture-crush": ["--limit-state", "containment", "--fem-fracture",
+                                      "median", "--fem-edge-radius", "20", "--fem-crush",
+                                      "0.1"],
     # made 2026-11-29 (python -m validation.studies.fracture_sensitivity --rim-thickness 80)
     **{f"fem-validation-fracture-sensitivity-rims80/{name}": validate_args(name, RIMS[80][2])
        for name in ("steep", "mild")},
