@@ -124,6 +124,10 @@ def test_containment_with_tearing_checks_the_issue_targets():
     rows[1] = case(0.33, 0.2, 0.22)  # FE/rigid 1.65: three of five within 35 %
     s = {s["cases"]: s for s in tearing(rows)}["all"]
     assert not s["target_within_35"]
+    # the same cases run with crushing are another validation, with statistics of their own
+    crushed = [{**r, "crush_jacobian": 0.1} for r in rows[:2]]
+    stats = [s for s in tearing(rows + crushed) if s["cases"] == "all"]
+    assert [(s["crush_jacobian"], s["n"]) for s in stats] == [("", 5), (0.1, 2)]
 
 
 def test_fracture_sensitivity_sets_each_set_beside_the_median(tmp_path):

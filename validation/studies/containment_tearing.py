@@ -3,7 +3,9 @@ SA with the law through tearing against the FE model's with tearing, on every ca
 containment validations with fracture, with the first touch beside each.
 
 Reads ``fem_comparison.csv`` of ``docs/fem-validation-fracture`` (40 mm rims) and
-``docs/fem-validation-fracture-rims80`` (80 mm), those that exist, or, of a run under way,
+``docs/fem-validation-fracture-rims80`` (80 mm), and of the same validations with crushing and
+uncovered faces (``--fem-crush 0.1``, :data:`CRUSHED`: 40 and 80 mm and the design space's
+120, 160 and 240 mm), those that exist, or, of a run under way,
 the finished searches of its ``status.csv`` (``python -m
 validation.studies.fem_validation_status --limit-state containment --fem-fracture median
 --fem-edge-radius 20 --out FOLDER``; marked ``run_finished`` False), and the first touch of
@@ -11,8 +13,10 @@ every record from the design space (``docs/rim-design/cases.csv``: the lowest 0.
 which the rigid-rim model touches a rim). Writes to ``docs/results/``:
 
 - ``containment_tearing.csv``: the validations' ``fem_comparison.csv`` columns plus
-  ``rim_thickness_mm``, ``first_touch_sa_g`` and ``fem_over_first_touch``;
-- ``containment_tearing_statistics.csv``: per thickness, over all cases and over those where
+  ``rim_thickness_mm``, ``crush_jacobian`` (blank without crushing), ``first_touch_sa_g`` and
+  ``fem_over_first_touch``;
+- ``containment_tearing_statistics.csv``: per validation (thickness and crushing), over all
+  cases and over those where
   FE and first touch are more than 10 % apart, the statistics of ``rim_design_fem`` (the
   medians of FE/rigid and FE/first touch, the shares within ±20 % and ±35 % of each), the FE
   runs that ended numerically, and the issue's three targets: the median FE/rigid within
@@ -36,23 +40,52 @@ from .rim_design_fem import statistics_rows as fem_statistics
 
 #: Rim thickness [mm] → the containment validation with tearing at it.
 FOLDERS = {40.0: DOCS / "fem-validation-fracture", 80.0: DOCS / "fem-validation-fracture-rims80"}
+#: The crushing Jacobian of the validations with crushing and uncovered faces [-]
+#: (docs/theory/finite-elements.md, Eqs. F67b, F68c).
+CRUSH_JACOBIAN = 0.1
+#: Rim thickness [mm] → the containment validation with tearing, crushing at
+#: :data:`CRUSH_JACOBIAN` and uncovered faces at it.
+CRUSHED = {40.0: DOCS / "fem-validation-fracture-crush",
+           80.0: DOCS / "fem-validation-fracture-crush-rims80",
+           **{t: DESIGN_SPACE / f"fem-{t:g}-containment" for t in (120.0, 160.0, 240.0)}}
+
+
+def crushed_args(thickness: float) -> list[str]:
+    """The ``dfp validate`` arguments (besides ``--out``) of the containment validation with
+    crushing at ``thickness`` [mm] (:data:`CRUSHED`): the 40 mm rims' law pushed by the face,
+    the others' by the slider; the design space's ladders up to 3 g, as its rupture
+    validations."""
+    rims = [] if thickness == 40 else ["--rim-thickness", f"{thickness:g}", "--rim-punch",
+                                       "slider"]
+    ladder = ["--stop", "3"] if thickness > 80 else []
+    return [*rims, "--limit-state", "containment", *ladder, "--fem-fracture", "median",
+            "--fem-edge-radius", "20", "--fem-crush", f"{CRUSH_JACOBIAN:g}"]
 
 
 def statistics_rows(rows: list[dict]) -> list[dict]:
-    """:func:`validation.studies.rim_design_fem.statistics_rows` of the containment rows
-    (all cases, and those where FE and first touch are apart), with the FE runs that ended
-    numerically and the issue's three targets (module docstring)."""
+    """:func:`validation.studies.rim_design_fem.statistics_rows` of the containment rows of
+    each validation (thickness and ``crush_jacobian``; all cases, and those where FE and first
+    touch are apart), with the FE runs that ended numerically and the issue's three targets
+    (module docstring)."""
     containment = [r for r in rows if r["limit_state"] == "containment"]
+    validations = {}
+    for r in containment:
+        validations.setdefault(r.get("crush_jacobian", ""), []).append(r)
     out = []
-    for s in fem_statistics(containment):
-        group = [r for r in containment if r["rim_thickness_mm"] == s["rim_thickness_mm"]]
-        out.append({
-            **s, "numerical_runs": sum(int(r["numerical_runs"] or 0) for r in group),
+    for crush, some in validations.items():
+        for s in fem_statistics(some):
+            group = [r for r in some if r["rim_thickness_mm"] == s["rim_thickness_mm"]]
+            out.append({"crush_jacobian": crush, **_targets(s, group)})
+    return out
+
+
+def _targets(s: dict, group: list[dict]) -> dict:
+    """One row of statistics ``s`` with the numerical runs of its cases ``group`` and the
+    issue's three targets."""
+    return {**s, "numerical_runs": sum(int(r["numerical_runs"] or 0) for r in group),
             "target_median": abs(s["median_fem_over_yielding"] - 1) <= 0.15,
             "target_within_35": s["yielding_within_35"] >= 0.8,
-            "target_beats_first_touch": s["yielding_within_20"] > s["first_touch_within_20"],
-        })
-    return out
+            "target_beats_first_touch": s["yielding_within_20"] > s["first_touch_within_20"]}
 
 
 def main(argv=None) -> None:
@@ -60,14 +93,16 @@ def main(argv=None) -> None:
     p.add_argument("--out", type=Path, default=RESULTS)
     args = p.parse_args(argv)
     rows = []
-    for t, folder in FOLDERS.items():
-        table = validation_table(folder)
-        if table is not None:
-            name, finished = table
-            rows += [{**{k: v for k, v in r.items() if k != "finished"},
-                      "run_finished": str(finished)}
-                     for r in comparison(DESIGN_SPACE, {t: folder}, name)
-                     if finished or r["finished"] == "True"]
+    for crush, folders in (("", FOLDERS), (CRUSH_JACOBIAN, CRUSHED)):
+        for t, folder in folders.items():
+            table = validation_table(folder)
+            if table is not None:
+                name, finished = table
+                rows += [{"crush_jacobian": crush,
+                          **{k: v for k, v in r.items() if k != "finished"},
+                          "run_finished": str(finished)}
+                         for r in comparison(DESIGN_SPACE, {t: folder}, name)
+                         if finished or r["finished"] == "True"]
     if not rows:
         raise SystemExit("no containment validation with tearing has a fem_comparison.csv "
                          "or a status.csv yet")
@@ -75,7 +110,8 @@ def main(argv=None) -> None:
     stats = statistics_rows(rows)
     write_csv(stats, args.out / "containment_tearing_statistics.csv")
     for s in stats:
-        print(f"{s['rim_thickness_mm']:g} mm, {s['cases']} cases: {s['n']} of {s['of']}; "
+        crushed = f", crushing J_c {s['crush_jacobian']:g}" if s["crush_jacobian"] != "" else ""
+        print(f"{s['rim_thickness_mm']:g} mm{crushed}, {s['cases']} cases: {s['n']} of {s['of']}; "
               f"median FE/rigid {s['median_fem_over_yielding']:.2f}, FE/first touch "
               f"{s['median_fem_over_first_touch']:.2f}; within 20 %: rigid "
               f"{s['yielding_within_20']:.0%}, first touch {s['first_touch_within_20']:.0%}; "

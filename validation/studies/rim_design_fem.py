@@ -39,7 +39,7 @@ def runs(out: Path = OUT) -> dict[float, Path]:
     """Thickness [mm] → the folder of its FE validation run (those that exist)."""
     found = {t: d for t, d in EARLIER.items() if (d / "fem_comparison.csv").exists()}
     for d in sorted(out.glob("fem-*")):
-        if (d / "fem_comparison.csv").exists():
+        if d.name.removeprefix("fem-").isdigit() and (d / "fem_comparison.csv").exists():
             found[float(d.name.removeprefix("fem-"))] = d
     return dict(sorted(found.items()))
 
