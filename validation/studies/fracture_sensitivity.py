@@ -20,8 +20,12 @@ With ``--rim-thickness 80`` the same for the 80 mm rims, whose law through teari
 slider's push (``--rim-thickness 80 --rim-punch slider`` added to the command above): the
 folders ``docs/fem-validation-fracture-sensitivity-rims80/SET``, the median runs of
 ``docs/fem-validation-fracture-rims80``, the table ``containment_fracture_sensitivity_rims80.csv``.
+With ``--rim-thickness 120``, ``160`` or ``240`` the same for the design space's rims, with
+crushing as their containment validations (``validation.studies.containment_tearing.CRUSHED``):
+the folders ``docs/rim-design/fem-T-containment-sensitivity/SET``, the table
+``containment_fracture_sensitivity_rimsT.csv``.
 
-Run: ``python -m validation.studies.fracture_sensitivity [--rim-thickness 80] [--workers 2]
+Run: ``python -m validation.studies.fracture_sensitivity [--rim-thickness T] [--workers 2]
 [--tables-only]``.
 """
 
@@ -34,6 +38,8 @@ from pathlib import Path
 from rigid.collapse.comparison import write_csv
 
 from . import DOCS, RESULTS, read_csv, validation_table
+from .containment_tearing import CRUSH_JACOBIAN, CRUSHED
+from .rim_design import OUT as DESIGN_SPACE
 
 SETS = ("steep", "median", "mild")
 RECORDS = 8  # the first components of the set, in its order
@@ -47,6 +53,11 @@ RIMS = {
          DOCS / "fem-validation-fracture-rims80",
          ["--rim-thickness", "80", "--rim-punch", "slider"],
          "containment_fracture_sensitivity_rims80.csv"),
+    # the design space's thicknesses, with crushing as their containment validations
+    **{t: (DESIGN_SPACE / f"fem-{t}-containment-sensitivity", CRUSHED[t],
+           ["--rim-thickness", str(t), "--rim-punch", "slider", "--stop", "3", "--fem-crush",
+            f"{CRUSH_JACOBIAN:g}"], f"containment_fracture_sensitivity_rims{t}.csv")
+       for t in (120, 160, 240)},
 }
 
 
