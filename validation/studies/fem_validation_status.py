@@ -38,10 +38,10 @@ from . import FEM_VALIDATION
 
 
 def run_settings(limit_states=("hinge",), rim_thickness_mm=None, fracture=None,
-                 edge_radius_mm=0.0, rim_punch="face", crush=None) -> Settings:
+                 edge_radius_mm=0.0, rim_punch="face", crush=None, stop_g=None) -> Settings:
     """The settings of ``dfp validate`` without ``--quick`` (FE steps 0.005 s), with
     ``--rim-thickness``, ``--fem-fracture`` (and so the rigid model's law through tearing),
-    ``--fem-edge-radius``, ``--rim-punch`` and ``--fem-crush`` when given."""
+    ``--fem-edge-radius``, ``--rim-punch``, ``--fem-crush`` and ``--stop`` [g] when given."""
     from fem.slider_push import EDGE_RADIUS
 
     bearing = () if rim_thickness_mm is None else (("rim_thickness", rim_thickness_mm / 1e3),)
@@ -52,7 +52,7 @@ def run_settings(limit_states=("hinge",), rim_thickness_mm=None, fracture=None,
                                    fracture=fracture, edge_radius=edge_radius_mm / 1e3,
                                    crush_jacobian=crush),
                     rims=("rigid", "yielding"), bearing=bearing, rim_fracture=fracture,
-                    **punch)
+                    **punch, **({} if stop_g is None else {"stop": stop_g * G}))
 
 
 def replayed(out: Path, settings: Settings, motions) -> tuple[FESearches, list]:
@@ -123,10 +123,11 @@ def main() -> None:
     p.add_argument("--rim-punch", choices=("face", "slider"), default="face",
                    help="the run's --rim-punch")
     p.add_argument("--fem-crush", type=float, default=None, help="the run's --fem-crush")
+    p.add_argument("--stop", type=float, default=None, help="the run's --stop [g]")
     args = p.parse_args()
     motions = fema_p695("nearfield_pulse")
     settings = run_settings(args.limit_state, args.rim_thickness, args.fem_fracture,
-                            args.fem_edge_radius, args.rim_punch, args.fem_crush)
+                            args.fem_edge_radius, args.rim_punch, args.fem_crush, args.stop)
     try:
         rows = replay(args.out, settings, motions)
     except MissingResultsError as exc:  # the rim law of other settings
@@ -139,12 +140,15 @@ def main() -> None:
     print(f"{len(rows)} searches started, {len(done)} finished of "
           f"{2 * len(motions) * len(args.limit_state)}; FE probes (a run shared by searches "
           f"counts once per search): {sum(r['fem_runs'] for r in rows)}")
-    stats = fem_statistics(done)  # the report's Fig. 4 and its statistics, finished searches
-    write_csv(stats, args.out / "status_statistics.csv")
-    save_figure(plot_fem_vs_rigid(done, settings.stop / G), args.out / "status_fig4.png")
-    for line in claim_verdicts(stats):
-        print(f"  {line}")
-    for name in ("status.csv", "status_statistics.csv", "status_fig4.png"):
+    written = ["status.csv"]
+    if done:  # the report's Fig. 4 and its statistics, of the finished searches
+        stats = fem_statistics(done)
+        write_csv(stats, args.out / "status_statistics.csv")
+        save_figure(plot_fem_vs_rigid(done, settings.stop / G), args.out / "status_fig4.png")
+        for line in claim_verdicts(stats):
+            print(f"  {line}")
+        written += ["status_statistics.csv", "status_fig4.png"]
+    for name in written:
         print(args.out / name)
 
 
