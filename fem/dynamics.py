@@ -444,12 +444,8 @@ class Integrator:
         re-evaluate at the same configuration, book what they released (Eq. F69), and return
         the new evaluation and reduced internal and material forces."""
         sysm = self.system
-        jacobian = None
-        if self.fracture.crush_jacobian is not None:  # det F for Eq. F67b
-            F = ev.material.gradient
-            jacobian = F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
         if not self.fracture.update(t, state.material.eq_plastic_strain, ev.material.stress,
-                                    jacobian):
+                                    ev.material.jacobian):
             return ev, f_int, f_mat
         strain, penalty = sysm.strain_energy(ev), ev.contact.normal_energy
         sysm.erode(self.fracture.retained, self.red.expand(d))

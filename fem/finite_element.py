@@ -41,6 +41,8 @@ class FiniteEvaluation(NamedTuple):
     plastic : ndarray of bool, shape (nelems, nqp)
     gradient : ndarray, shape (2, 2, nelems, nqp) [-]
         F.
+    jacobian : ndarray, shape (nelems, nqp) [-]
+        det F (1 in the elements gone, which are evaluated undeformed).
     mean_dilatation : ndarray, shape (nelems, nqp) [-]
         J̄ of each point's element.
     start : fem.hencky.FiniteState
@@ -54,6 +56,7 @@ class FiniteEvaluation(NamedTuple):
     state: hencky.FiniteState
     plastic: np.ndarray
     gradient: np.ndarray
+    jacobian: np.ndarray
     mean_dilatation: np.ndarray
     start: hencky.FiniteState
     weights: np.ndarray
@@ -124,6 +127,7 @@ class FiniteStrainQ1(PlaneStrainQ1):
             weights = self.dx * np.where(gone, 0.0, self.retained)[:, None]
             if gone.any():
                 F[:, :, gone] = np.eye(2)[:, :, None, None]
+                J[gone] = 1.0
                 jbar = np.array(jbar)
                 jbar[gone] = 1.0
             inverted &= ~letting_go
@@ -131,8 +135,8 @@ class FiniteStrainQ1(PlaneStrainQ1):
         force = self._GmatT @ (res.first_piola.reshape(4, *self.dx.shape) * weights).ravel()
         if inverted.any():  # an inverted element is no deformation: mark the iterate
             force[:] = np.nan  # invalid, so that Newton rejects it (and the step is cut)
-        ev = FiniteEvaluation(res.cauchy, res.kirchhoff, res.state, res.plastic, F, jbar, state,
-                              weights)
+        ev = FiniteEvaluation(res.cauchy, res.kirchhoff, res.state, res.plastic, F, J, jbar,
+                              state, weights)
         return ev, force
 
     def active_elements(self, ev: FiniteEvaluation, gradient: float | None = None) -> np.ndarray:

@@ -26,25 +26,14 @@ def rim_of_nodes(model) -> np.ndarray:
     step control."""
     mesh, nodes = model.mesh, model.system.nodes
     rim_of = np.full(len(nodes), -1)
-    for plate in ("bottom", "top"):
-        on_rim = np.unique(
-            np.concatenate(
-                [mesh.facets[:, mesh.boundaries[f"{plate}_{k}"]].ravel()
+    side = mesh.p[0, nodes.nodes] > 0
+    for plate, base in (("bottom", 0), ("top", 2)):
+        faces = [mesh.facets[:, mesh.boundaries[f"{plate}_{k}"]].ravel()
                  for k in ("rim_inner", "rim_top")]
-            )
-        )
-        mask = np.isin(nodes.nodes, on_rim)
-        side = mesh.p[0, nodes.nodes] > 0
-        base = 0 if plate == "bottom" else 2
-        rim_of[mask & ~side] = base
-        rim_of[mask & side] = base + 1
-    # the vertices inside the rims, contact nodes once uncovered (Eq. F68c)
-    for plate in ("bottom", "top"):
-        inside = np.isin(nodes.nodes, mesh.t[:, mesh.subdomains[f"{plate}_rim"]]) & (rim_of < 0)
-        side = mesh.p[0, nodes.nodes] > 0
-        base = 0 if plate == "bottom" else 2
-        rim_of[inside & ~side] = base
-        rim_of[inside & side] = base + 1
+        inside = mesh.t[:, mesh.subdomains[f"{plate}_rim"]].ravel()
+        on_rim = np.isin(nodes.nodes, np.concatenate([*faces, inside]))
+        rim_of[on_rim & ~side] = base
+        rim_of[on_rim & side] = base + 1
     return rim_of
 
 

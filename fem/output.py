@@ -196,16 +196,23 @@ def render_state(
     return path
 
 
+def final_pose(result) -> np.ndarray:
+    """The slider's pose (X, Z, Θ) [m, m, rad] at the end of an :class:`fem.FEMResult`."""
+    return np.array([0.0, result.bearing.slider_height / 2, 0.0]) + result.final_displacement[-3:]
+
+
 def render_result(path, result, **kwargs) -> Path:
-    """:func:`render_state` of an :class:`fem.FEMResult`'s final state."""
+    """:func:`render_state` of an :class:`fem.FEMResult`'s final state, without the elements
+    that have let go altogether (Eq. F68; their vertices fall free, Eq. F69b)."""
+    from skfem import MeshQuad1
+
     shape = SliderShape.from_bearing(result.bearing, result.edge_radius)
-    n_plate = result.final_displacement.size - 3
-    pose = np.array([0.0, result.bearing.slider_height / 2, 0.0]) + result.final_displacement[
-        n_plate:
-    ]
+    held = (np.ones(result.mesh.t.shape[1], dtype=bool) if result.retained is None
+            else result.retained > 0.0)
     return render_state(
-        path, result.mesh, shape, result.final_displacement, pose, result.final_stress,
-        result.final_plastic_strain, **kwargs,
+        path, MeshQuad1(result.mesh.p, result.mesh.t[:, held]), shape,
+        result.final_displacement, final_pose(result), result.final_stress[:, held],
+        result.final_plastic_strain[held], **kwargs,
     )
 
 

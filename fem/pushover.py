@@ -186,10 +186,12 @@ class PushRecord:
         held = fe.element_dofs[:, fe.retained > 0].ravel()
         return np.setdiff1d(np.setdiff1d(fe.basis.nodal_dofs.ravel(), held), fixed)
 
-    def add(self, delta: float, force: float, u: np.ndarray, state, stress) -> bool:
+    def add(self, delta: float, force: float, u: np.ndarray, state, stress,
+            jacobian: np.ndarray | None = None) -> bool:
         """Record one accepted increment: the push δ [m], its force [N], the displacements
-        [m], the material state and the stresses [Pa]. True once the torn rim is off (the
-        force below :data:`SEPARATED` of its peak after a tear, with erosion)."""
+        [m], the material state, the stresses [Pa] and det F (nelems, nqp) [-] (for crushing,
+        Eq. F67b). True once the torn rim is off (the force below :data:`SEPARATED` of its peak
+        after a tear, with erosion)."""
         out, p = self.rows, state.eq_plastic_strain
         frac = float((p[self.plate.root_row] > 0).mean())
         out["d"].append(delta)
@@ -203,7 +205,6 @@ class PushRecord:
         tracker = self.tracker
         if tracker is None:
             return False
-        jacobian = self.fe.deformation(u)[1] if tracker.crush_jacobian is not None else None
         if tracker.update(delta, p, stress, jacobian):
             self.fe.retained = tracker.retained.copy()
         out["damage"].append(tracker.rim_damage[0])

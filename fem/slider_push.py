@@ -152,13 +152,11 @@ def rim_slider_push(bearing: DFPBearing, *, edge_radius: float = EDGE_RADIUS,
         length = nodes.length
         if surface is not None and fe.retained is not None:
             length = surface.lengths(fe.retained)[keep]
-            new = (length > 0.0) & (nodes.length == 0.0) & ~uncovered
+            new = C.first_uncovered(length, nodes.length, uncovered)
             if new.any():  # first uncovered: the slider's penetration is their δ₀ (F68c)
-                x = mesh.p[:, nodes.nodes[new]] + u[node_dofs[:, new]]
-                xi = C.body_coordinates(x, pose_at(delta))
                 offset = offset.copy()
-                offset[new] = np.maximum(C.penetration(shape, xi)[0], 0.0)
-                uncovered |= new
+                offset[new] = C.overlap_gap(shape, mesh.p[:, nodes.nodes[new]]
+                                            + u[node_dofs[:, new]], pose_at(delta))
         in_contact = dataclasses.replace(nodes, length=length * ~np.isin(node_dofs[0], loose))
         res = _newton(fe, steel, state, u, held, pose_at(target), shape, in_contact,
                       node_dofs, friction, offset, eps_n, tangential_ratio * eps_n)
@@ -170,10 +168,11 @@ def rim_slider_push(bearing: DFPBearing, *, edge_radius: float = EDGE_RADIUS,
                 raise RuntimeError(f"slider push: Newton did not converge beyond δ = "
                                    f"{delta:.4g} m even with increments of {h:.2g} m")
             continue
-        delta, (u, state, stress, friction, slider_force) = target, res
+        delta, (u, ev, friction, slider_force) = target, res
+        state = ev.state
         h = min(2.0 * h, delta_end / steps)
         force = -slider_force[0] * plate.depth  # the rim's push back on the slider, outward +
-        if record.add(delta, force, u, state, stress):
+        if record.add(delta, force, u, state, ev.stress, ev.jacobian):
             break  # the rim is off
     return record.pushover("finite", u, state)
 
@@ -182,8 +181,9 @@ def _newton(fe, steel, state, u, fixed, pose, shape, nodes, node_dofs, friction,
             eps_n, eps_t, rtol=1e-8, max_iter=15):
     """One increment: f_int(u) = f_contact(u) with the slider at ``pose`` and the dofs
     ``fixed`` held where they are; Newton with the consistent tangents of the plate and of
-    the contact's node block (Eq. F18). Returns (u, state, stress, friction history,
-    slider force [N/m, N/m, N·m/m]) once converged, None if not."""
+    the contact's node block (Eq. F18). Returns (u, the plate's evaluation
+    (:class:`fem.finite_element.FiniteEvaluation`), friction history, slider force [N/m, N/m,
+    N·m/m]) once converged, None if not."""
     from scipy.sparse.linalg import MatrixRankWarning
     from skfem import condense, solve
 
@@ -201,7 +201,7 @@ def _newton(fe, steel, state, u, fixed, pose, shape, nodes, node_dofs, friction,
         r = f_con - f_int
         scale = max(np.linalg.norm(f_int), np.linalg.norm(f_con))
         if scale == 0.0 or np.linalg.norm(r[free]) <= rtol * scale:
-            return u, ev.state, ev.stress, con.state, con.slider_force
+            return u, ev, con.state, con.slider_force
         # only the nodes' block of the contact tangent: the slider's pose is prescribed
         K = fe.finite_stiffness(steel, ev) + _node_block(con.stiffness, node_dofs, u.size)
         with warnings.catch_warnings():  # a singular tangent fails the increment

@@ -147,12 +147,11 @@ class CoupledSystem:
             length = nodes.length * keep[nodes.nodes]
         else:
             length = self.surface.lengths(retained)
-            new = (length > 0.0) & (nodes.length == 0.0) & ~self._uncovered
+            new = C.first_uncovered(length, nodes.length, self._uncovered)
             if new.any() and d is not None:
-                xi = C.body_coordinates(self.slave_positions(d)[:, new], self.slider_pose(d))
                 self.offset = self.offset.copy()
-                self.offset[new] = np.maximum(C.penetration(self.shape, xi)[0], 0.0)
-            self._uncovered |= new
+                self.offset[new] = C.overlap_gap(self.shape, self.slave_positions(d)[:, new],
+                                                 self.slider_pose(d))
         self.nodes = replace(nodes, length=length)
         # the dofs of the vertices no element holds any more: loose material (Eq. F69b)
         self.loose_dofs = self.fe.basis.nodal_dofs[:, keep == 0.0].ravel()

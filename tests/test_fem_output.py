@@ -83,3 +83,29 @@ def test_png_renders(state, tmp_path):
     img = np.asarray(Image.open(path).convert("L"), dtype=float)
     assert img.shape == (300, 400)
     assert img.std() > 5  # not a blank frame
+
+
+def test_result_figure_leaves_out_the_elements_let_go(state, monkeypatch):
+    """render_result draws the elements that keep any of their stiffness (Eq. F68) with their
+    own fields, none of those that have let go altogether, and the slider at the final pose."""
+    from types import SimpleNamespace
+
+    import fem.output as output
+
+    mesh, _, d, stress, plastic = state
+    retained = np.ones(mesh.t.shape[1])
+    retained[[3, 7]] = 0.0  # let go
+    retained[5] = 0.4  # letting go: still drawn
+    result = SimpleNamespace(bearing=BEARING, edge_radius=0.0, mesh=mesh, final_displacement=d,
+                             final_stress=stress, final_plastic_strain=plastic,
+                             retained=retained)
+    drawn = {}
+    monkeypatch.setattr(output, "render_state",
+                        lambda path, m, shape, dd, pose, s, p, **kw: drawn.update(
+                            t=m.t, pose=pose, stress=s, plastic=p))
+    output.render_result("unused.png", result)
+    kept = np.setdiff1d(np.arange(mesh.t.shape[1]), [3, 7])
+    assert np.array_equal(drawn["t"], mesh.t[:, kept])
+    assert np.array_equal(drawn["stress"], stress[:, kept])
+    assert np.array_equal(drawn["plastic"], plastic[kept])
+    assert np.allclose(drawn["pose"], [0.05, BEARING.slider_height / 2 + 0.001, 0.02])

@@ -4,7 +4,7 @@ nodes (:mod:`fem.contact.nodes`) and, optionally, at the slider's vertices
 (:mod:`fem.contact.vertices`). Forces are per unit out-of-plane depth [N/m], moments [N·m/m];
 the formulation is in ``docs/theory/finite-elements.md``, "Contact"."""
 
-from .exposed import ExposedSurface, with_rim_vertices
+from .exposed import ExposedSurface, first_uncovered, overlap_gap, with_rim_vertices
 from .nodes import ContactNodes, ContactResult, ContactState, assemble, evaluate, initial_state
 from .slider import (
     BOTTOM,
@@ -35,7 +35,9 @@ __all__ = [
     "assemble",
     "body_coordinates",
     "evaluate",
+    "first_uncovered",
     "initial_state",
+    "overlap_gap",
     "penetration",
     "rotation",
     "vertex_contact",

@@ -10,8 +10,15 @@ the lengths are those of :meth:`ContactNodes.from_mesh`; as a rim element crushe
 the faces of the elements behind it become surface, so the slider meets what is left of the
 rim instead of passing through it.
 
-    nodes, surface = with_rim_vertices(mesh, nodes, rim_friction)
-    nodes = dataclasses.replace(nodes, length=surface.lengths(retained))
+    nodes, surface = with_rim_vertices(mesh, nodes, boundaries, rim_friction)
+    length = surface.lengths(retained)
+    new = first_uncovered(length, nodes.length, uncovered)   # marks them in ``uncovered``
+    offset[new] = overlap_gap(shape, positions[:, new], pose)
+    nodes = dataclasses.replace(nodes, length=length)
+
+A node uncovered for the first time inside the slider takes the slider's penetration there as
+its gap adjustment δ₀ (:func:`fem.contact.initial_state`), so that it carries no force until the
+slider moves further in.
 """
 
 from __future__ import annotations
@@ -21,8 +28,9 @@ import dataclasses
 import numpy as np
 
 from .nodes import ContactNodes
+from .slider import SliderShape, body_coordinates, penetration
 
-__all__ = ["ExposedSurface", "with_rim_vertices"]
+__all__ = ["ExposedSurface", "first_uncovered", "overlap_gap", "with_rim_vertices"]
 
 #: The rims' subdomains of the bearing's mesh (``meshes/dfp.geo``).
 RIM_SUBDOMAINS = ("bottom_rim", "top_rim")
@@ -101,3 +109,19 @@ def with_rim_vertices(mesh, nodes: ContactNodes, boundaries, rim_friction: float
     surface = ExposedSurface(index[ends], 0.5 * np.hypot(seg[0], seg[1]), elements,
                              grown.nodes.size)
     return grown, surface
+
+
+def first_uncovered(length: np.ndarray, intact: np.ndarray, uncovered: np.ndarray) -> np.ndarray:
+    """Which contact nodes are uncovered for the first time (bool, (n,)): they carry a
+    tributary length ``length`` (n,) [m] now, carried none intact (``intact`` (n,) [m]) and are
+    not yet in ``uncovered`` (bool, (n,)), which is updated in place (Eq. F68c)."""
+    new = (length > 0.0) & (intact == 0.0) & ~uncovered
+    uncovered |= new
+    return new
+
+
+def overlap_gap(shape: SliderShape, positions: np.ndarray, pose) -> np.ndarray:
+    """The gap adjustment δ₀ [m] of nodes uncovered at ``positions`` (2, k) [m]: the slider's
+    penetration there with the slider at ``pose`` (X, Z, Θ) [m, m, rad], 0 outside it (Eq.
+    F68c)."""
+    return np.maximum(penetration(shape, body_coordinates(positions, pose))[0], 0.0)

@@ -19,13 +19,12 @@ import dataclasses
 import math
 import time
 
-import numpy as np
 from threadpoolctl import threadpool_limits
 
 import fem
 from fem.contact import SliderShape
 from fem.limit_states import corner_nodes, rim_overshoots, slider_vertex_positions
-from fem.output import nodal_displacement, render_state
+from fem.output import final_pose, nodal_displacement, render_result
 from fem.slider_push import EDGE_RADIUS  # 20 mm, the validations' --fem-edge-radius
 from rigid import DFPBearing, G, fema_p695, scale_factor
 from rigid.collapse.comparison import write_csv
@@ -43,9 +42,8 @@ def closest_rim(result) -> dict:
     what the containment test saw (it follows what is left of the rim, Eq. F68b)."""
     b = result.bearing
     d = result.final_displacement
-    pose = np.array([0.0, b.slider_height / 2, 0.0]) + d[-3:]
     vx, vz = slider_vertex_positions(SliderShape.from_bearing(b, result.edge_radius).vertices,
-                                     pose)
+                                     final_pose(result))
     u = nodal_displacement(result.mesh, d)
     best = (-math.inf, None, None)  # (overshoot [m], rim, climb left [m])
     for name, node in corner_nodes(result.mesh, b).items():
@@ -57,19 +55,9 @@ def closest_rim(result) -> dict:
 
 
 def render_end(path, result, title: str):
-    """The run's final state (:func:`fem.output.render_state`) without the elements that
-    have let go altogether (Eq. F68; their vertices fall free, Eq. F69b), around the slider."""
-    from skfem import MeshQuad1
-
-    keep = (np.ones(result.mesh.t.shape[1], dtype=bool) if result.retained is None
-            else result.retained > 0.0)
-    mesh = MeshQuad1(result.mesh.p, result.mesh.t[:, keep])
-    d = result.final_displacement
-    pose = np.array([0.0, result.bearing.slider_height / 2, 0.0]) + d[-3:]
-    return render_state(path, mesh, SliderShape.from_bearing(result.bearing, result.edge_radius),
-                        d, pose, result.final_stress[:, keep],
-                        result.final_plastic_strain[keep], title=title,
-                        focus=(pose[0], pose[1], 0.35))
+    """The run's final state around the slider (:func:`fem.output.render_result`)."""
+    pose = final_pose(result)
+    return render_result(path, result, title=title, focus=(pose[0], pose[1], 0.35))
 
 
 def run(thickness: float, pressure: float, motion, sa_g: float,
