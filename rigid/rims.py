@@ -184,7 +184,8 @@ def rim_law_through_tearing(bearing: DFPBearing, stiffness: float, fine, torn) -
     above its root there; the first tear is the rupture (as Eq. F67 makes it in the FE
     model), and the last row is where the rim is off: the push's own if it ended so (Eq.
     R64), else a row added at u_p = t_r to a push that stopped short, of zero force if the
-    rim had torn and of the last force if not (Eq. R64b)."""
+    rim had torn and of the last force if not (Eq. R64b); a push that went on past u_p = t_r
+    is cut there (Eq. R64c)."""
     root = bearing.dish_depth(bearing.rim_radius)
     keep = torn.displacement > fine.displacement[-1] * (1 + 1e-9)
     d = np.concatenate([fine.displacement, torn.displacement[keep]])
@@ -203,7 +204,16 @@ def rim_law_through_tearing(bearing: DFPBearing, stiffness: float, fine, torn) -
     keep = np.concatenate([[True], np.diff(sets) > 0])
     sets, forces, heights = sets[keep], forces[keep], heights[keep]
     off_set = float(sets[-1])
-    if not torn.separated and sets[-1] < bearing.rim_thickness:
+    if sets[-1] > bearing.rim_thickness:
+        # Eq. R64c: a push that went on past u_p = t_r (the slider ploughing through a
+        # crushed rim) is cut there: the rim's inner face is at the plate's outer edge, and
+        # the rim is off its plate
+        off_set = bearing.rim_thickness
+        within = sets < off_set
+        forces = np.append(forces[within], np.interp(off_set, sets, forces))
+        heights = np.append(heights[within], np.interp(off_set, sets, heights))
+        sets = np.append(sets[within], off_set)
+    elif not torn.separated and sets[-1] < bearing.rim_thickness:
         # Eq. R64b: a push that Newton stopped short goes on to where the rim's inner face
         # reaches the plate's outer edge (u_p = t_r), where the rim is off its plate: a torn
         # rim's force falls linearly to zero there, an untorn one keeps its last force

@@ -38,7 +38,7 @@ def _push(d, f, height, tear=None, separated=False, hinge=2e-4):
         separated=separated)
 
 
-def _law(separated=True):
+def _law(separated=True, bearing=BEARING):
     """Elastic to 0.4 MN, hardening to 2.4 MN at 6 mm, a slight fall to the tear at 10 mm,
     then down to 1 % of the peak at 38 mm; the corner rising from 35 to 39 mm."""
     fine_d = np.linspace(0.0, 1.5e-3, 61)
@@ -55,7 +55,7 @@ def _law(separated=True):
 
     fine = _push(fine_d, force(fine_d), height(fine_d))
     torn = _push(torn_d, force(torn_d), height(torn_d), tear=0.01, separated=separated)
-    return rim_law_through_tearing(BEARING, K_EL, fine, torn), torn
+    return rim_law_through_tearing(bearing, K_EL, fine, torn), torn
 
 
 def test_the_law_follows_the_push_through_the_tear():
@@ -100,6 +100,26 @@ def test_a_push_stopped_short_goes_on_to_the_plate_edge():
     held = rim_law_through_tearing(BEARING, K_EL, fine, untorn)
     assert held.off_set == held.plastic_set[-1] == BEARING.rim_thickness
     assert held.force[-1] == held.force[-2] and held.tear_set == math.inf
+
+
+def test_a_push_past_the_plate_edge_is_cut_there():
+    """A push that went on past u_p = t_r, as the slider's push ploughs through a crushed
+    thick rim (Eq. R64c): the law keeps the rows before t_r and ends with one at t_r, its force
+    and corner height interpolated there, where the rim is off. The same push stopped at 38 mm
+    of a 40 mm rim keeps all its rows. Round-off tolerances: one interpolation."""
+    law, _ = _law()
+    cut, _ = _law(bearing=dataclasses.replace(BEARING, rim_thickness=0.030))  # ends past it
+    assert cut.off_set == cut.plastic_set[-1] == 0.030
+    before = law.plastic_set < 0.030
+    n = int(before.sum())
+    np.testing.assert_array_equal(cut.plastic_set[:n], law.plastic_set[before])
+    np.testing.assert_array_equal(cut.force[:n], law.force[before])
+    assert cut.plastic_set.size == n + 1
+    assert cut.force[-1] == pytest.approx(np.interp(0.030, law.plastic_set, law.force),
+                                          rel=1e-12)
+    assert cut.corner_height[-1] == pytest.approx(
+        np.interp(0.030, law.plastic_set, law.corner_height), rel=1e-12)
+    assert law.off_set == law.plastic_set[-1] < BEARING.rim_thickness  # not cut at 40 mm
 
 
 def test_the_rim_element_softens_along_the_backbone():
