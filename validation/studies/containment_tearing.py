@@ -50,16 +50,23 @@ CRUSHED = {40.0: DOCS / "fem-validation-fracture-crush",
            **{t: DESIGN_SPACE / f"fem-{t:g}-containment" for t in (120.0, 160.0, 240.0)}}
 
 
-def crushed_args(thickness: float) -> list[str]:
-    """The ``dfp validate`` arguments (besides ``--out``) of the containment validation with
-    crushing at ``thickness`` [mm] (:data:`CRUSHED`): the 40 mm rims' law pushed by the face,
-    the others' by the slider; the design space's ladders up to 3 g, as its rupture
+def crushed_rims(thickness: float) -> list[str]:
+    """The ``dfp validate`` arguments that set the rims, their crushing and the ladder of the
+    validations with crushing at ``thickness`` [mm] (:data:`CRUSHED`; their fracture-constant
+    runs too, :mod:`validation.studies.fracture_sensitivity`): the 40 mm rims' law pushed by
+    the face, the others' by the slider; the design space's ladders up to 3 g, as its rupture
     validations."""
     rims = [] if thickness == 40 else ["--rim-thickness", f"{thickness:g}", "--rim-punch",
                                        "slider"]
     ladder = ["--stop", "3"] if thickness > 80 else []
-    return [*rims, "--limit-state", "containment", *ladder, "--fem-fracture", "median",
-            "--fem-edge-radius", "20", "--fem-crush", f"{CRUSH_JACOBIAN:g}"]
+    return [*rims, *ladder, "--fem-crush", f"{CRUSH_JACOBIAN:g}"]
+
+
+def crushed_args(thickness: float) -> list[str]:
+    """The ``dfp validate`` arguments (besides ``--out``) of the containment validation with
+    crushing at ``thickness`` [mm] (:data:`CRUSHED`, :func:`crushed_rims`)."""
+    return [*crushed_rims(thickness), "--limit-state", "containment", "--fem-fracture",
+            "median", "--fem-edge-radius", "20"]
 
 
 def statistics_rows(rows: list[dict]) -> list[dict]:

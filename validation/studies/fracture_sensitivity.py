@@ -38,7 +38,7 @@ from pathlib import Path
 from rigid.collapse.comparison import write_csv
 
 from . import DOCS, RESULTS, read_csv, validation_table
-from .containment_tearing import CRUSH_JACOBIAN, CRUSHED
+from .containment_tearing import CRUSHED, crushed_rims
 from .rim_design import OUT as DESIGN_SPACE
 
 SETS = ("steep", "median", "mild")
@@ -54,10 +54,8 @@ RIMS = {
          ["--rim-thickness", "80", "--rim-punch", "slider"],
          "containment_fracture_sensitivity_rims80.csv"),
     # the design space's thicknesses, with crushing as their containment validations
-    **{t: (DESIGN_SPACE / f"fem-{t}-containment-sensitivity", CRUSHED[t],
-           ["--rim-thickness", str(t), "--rim-punch", "slider", "--stop", "3", "--fem-crush",
-            f"{CRUSH_JACOBIAN:g}"], f"containment_fracture_sensitivity_rims{t}.csv")
-       for t in (120, 160, 240)},
+    **{t: (DESIGN_SPACE / f"fem-{t}-containment-sensitivity", CRUSHED[t], crushed_rims(t),
+           f"containment_fracture_sensitivity_rims{t}.csv") for t in (120, 160, 240)},
 }
 
 
