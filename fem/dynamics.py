@@ -10,7 +10,9 @@ the tangent M/(βΔt²) + (1 + α) K_t; the linear solves use :class:`fem.linear
 and a line search's accepted evaluation serves as the next iteration's.
 
 Step control (docs/theory/finite-elements.md, "Time steps"): a step whose Newton iteration
-does not converge is retried with half the step (down to ``min_step``); a step that opens or
+does not converge is retried with half the step (down to ``min_step``; below it, with rounded
+slider edges, once a run from ``impact_step`` with the friction history carried across the
+edges, Eq. F16a); a step that opens or
 closes a rim contact while longer than ``impact_step`` is retried at ``impact_step``, which is
 kept while any rim contact is active; a step that changes the energy-balance residual by more than
 ``energy_tol`` is redone at half the size; afterwards the step doubles back to ``max_step``.
@@ -194,6 +196,8 @@ class RunResult:
         Final reduced displacement and velocity.
     state : fem.system.State
         Final committed history.
+    friction_carried_from : float or None [s]
+        When the fallback of Eq. F16a was taken (None: never).
     """
 
     time: np.ndarray
@@ -204,6 +208,7 @@ class RunResult:
     d: np.ndarray
     v: np.ndarray
     state: State
+    friction_carried_from: float | None = None
 
 
 @dataclass
@@ -244,6 +249,7 @@ class Integrator:
         self.steps = 0
         self.solver = TangentSolver(self.system, self.red, self.M)
         self.loose = np.zeros(self.M.size, dtype=bool)  # reduced dofs of loose material
+        self.friction_carried_from = None  # time [s] of the fallback of Eq. F16a, if taken
 
     def external(self, t: float) -> np.ndarray:
         """f_ext(t) = g − M r a_g(t), reduced [N/m]."""
@@ -389,9 +395,15 @@ class Integrator:
                     held, backoff = backoff, min(2 * backoff, 64 * ctl.hold)
                 grew = False
                 h *= 0.5
+                if h < ctl.min_step and self._carry_across_edges(t):
+                    h = ctl.impact_step  # the fallback of Eq. F16a: retry the step
+                    continue
                 if h < ctl.min_step:
                     failed = True
                     message = f"Newton did not converge at t = {t:.5f} s even with Δt = {h:.2e} s"
+                    if self.friction_carried_from is not None:
+                        message += (" and the friction carried across the slider's edges from"
+                                    f" t = {self.friction_carried_from:.5f} s (Eq. F16a)")
                     break
                 continue
             dd = out.d - d
@@ -437,7 +449,19 @@ class Integrator:
         return RunResult(
             time=np.asarray(times), energy=energy.arrays(), stopped=stopped,
             failed_numerically=failed, message=message, d=d, v=v, state=state,
+            friction_carried_from=self.friction_carried_from,
         )
+
+    def _carry_across_edges(self, t: float) -> bool:
+        """The fallback of a step that failed at its smallest size: from ``t`` [s] on, the
+        friction history carries across the slider's rounded edges (Eq. F16a), once a run and
+        only where the edges are rounded. True if it was turned on now."""
+        sysm = self.system
+        if sysm.carry_across_edges or sysm.shape.edge_radius <= 0.0:
+            return False
+        sysm.carry_across_edges = True
+        self.friction_carried_from = t
+        return True
 
     def _tear(self, t, d, ev, state, f_int, f_mat):
         """After an accepted step: update the fracture; if elements let go further (Eq. F68),

@@ -154,6 +154,9 @@ class FEMResult:
     retained : ndarray, shape (nelems,) [-] or None
         With ``fracture``: the fraction of its stiffness each element keeps at the end (0:
         eroded; Eq. F68).
+    friction_carried_from : float or None [s]
+        With rounded slider edges: when a step that failed at the smallest size was retried
+        with the friction history carried across the edges (Eq. F16a); None: never.
     """
 
     time: np.ndarray
@@ -196,6 +199,7 @@ class FEMResult:
     torn_elements: dict = field(default_factory=dict)
     crushed_elements: dict = field(default_factory=dict)
     retained: np.ndarray | None = field(default=None, repr=False)
+    friction_carried_from: float | None = None
 
     failure_criterion = deprecated_attribute("failure_criterion")
 
@@ -457,4 +461,5 @@ def _result(bearing, model, integ, out, observer, *, limit_state, kinematics, ed
         torn_elements=dict(watch.fracture.torn) if watch.fracture is not None else {},
         crushed_elements=dict(watch.fracture.crushed) if watch.fracture is not None else {},
         retained=None if watch.fracture is None else watch.fracture.retained.copy(),
+        friction_carried_from=out.friction_carried_from,
     )

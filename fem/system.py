@@ -96,6 +96,9 @@ class CoupledSystem:
     surface : fem.contact.ExposedSurface, optional
         With every rim vertex among ``nodes``: the contact lengths as elements let go (Eq.
         F68c; :meth:`erode`).
+    carry_across_edges : bool
+        Friction history kept across the rounded edges' tangent boundaries (Eq. F16a); the
+        integrator turns it on when a step fails at its smallest size.
     """
 
     fe: PlaneStrainQ1
@@ -108,6 +111,7 @@ class CoupledSystem:
     adjust: float = 1e-9
     vertex_depth: float = 0.02
     surface: C.ExposedSurface | None = None
+    carry_across_edges: bool = False
 
     def __post_init__(self):
         self.pose = np.asarray(self.pose, dtype=float)
@@ -190,6 +194,7 @@ class CoupledSystem:
             self.offset,
             self.penalty,
             self.tangential_penalty,
+            self.carry_across_edges,
         )
         vc = None
         if self.nodes.segments is not None:

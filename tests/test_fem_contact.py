@@ -193,6 +193,40 @@ def test_coulomb_return_map():
         assert r.node_force[1, 0] == pytest.approx(expected, rel=1e-9)  # along +z
 
 
+@pytest.mark.parametrize("carry", [False, True])
+def test_friction_history_across_a_rounded_edge(carry):
+    """A node stuck on the bottom face slips across the tangent boundary onto the rounded edge
+    (docs/theory/finite-elements.md, Eqs. F16, F16a): with ``carry_across_edges`` its
+    tangential force goes on from the converged one, T = T_n − ε_T L ΔS, else it starts again,
+    T = −ε_T L ΔS (closed form, 1e-9 relative: the slips are 1e-7 of the 1e-4 m positions)."""
+    pose = np.zeros(3)
+    L, mu, eps_n, eps_t = 0.01, 0.3, 1e14, 1e13
+    nodes = C.ContactNodes(np.array([0]), np.array([L]), np.array([mu]), np.array([0]))
+    centre = ROUNDED.centres[0]  # of the bottom face's circle
+    n_f = ROUNDED.edge_centres[:, 1] - centre  # bottom-right edge: its boundary with the face
+    boundary = math.atan2(n_f[1], n_f[0])
+    depth = 1e-6
+
+    def at(angle):  # a point ``depth`` inside the bottom face's circle (or the edge) at angle
+        return (centre + (ROUNDED.radius - depth) * np.array([math.cos(angle),
+                                                              math.sin(angle)]))[:, None]
+
+    step = 2e-8 / ROUNDED.radius  # 20 nm along the face
+    state, offset = C.initial_state(ROUNDED, at(boundary - step), pose, adjust=0.0)
+    first = C.evaluate(ROUNDED, nodes, at(boundary - 2 * step), pose, state, offset, eps_n,
+                       eps_t, carry_across_edges=carry)  # converged: stuck on the face
+    assert first.state.face[0] == C.BOTTOM and first.stick[0] and first.tangential[0] != 0
+    across = C.evaluate(ROUNDED, nodes, at(boundary + step), pose, first.state, offset, eps_n,
+                        eps_t, carry_across_edges=carry)
+    assert across.state.face[0] == C.EDGES[1] and across.stick[0]
+    kept = first.tangential[0] if carry else 0.0
+    assert across.tangential[0] == pytest.approx(kept - eps_t * L * across.slip[0], rel=1e-9)
+    # the boundary is tangent-continuous only where the edges are rounded
+    assert C.tangent_continuous(ROUNDED)[C.EDGES[1], [C.BOTTOM, C.RIGHT]].all()
+    assert not C.tangent_continuous(ROUNDED)[C.EDGES[1], [C.TOP, C.LEFT, C.EDGES[0]]].any()
+    assert (C.tangent_continuous(SHAPE) == np.eye(8, dtype=bool)).all()
+
+
 def test_hertz_plane_strain():
     """Rigid cylinder (the slider's bottom face, R = 50 mm) on an elastic half-plane.
 

@@ -165,3 +165,33 @@ def test_the_step_is_held_after_newton_fails(mesh_cache):
     between = _held_steps(mesh_cache, 4, lambda t: t < 0.3 or t > 0.45)
     assert between[:4] == [0, 5, 9, 17]  # the held steps, then the one that tries to grow
     assert between[-3:-1] == [5, 9]  # after the growth that converged: 4 again
+
+
+@pytest.mark.parametrize("edge_radius", [0.0, 0.02])
+def test_a_step_that_fails_at_the_smallest_size_carries_friction_across_edges(
+        mesh_cache, edge_radius):
+    """docs/theory/finite-elements.md, Eq. F16a: a step that Newton cannot do even at
+    ``min_step`` is retried once a run with the friction history carried across the slider's
+    rounded edges; where the edges are sharp there is no such retry and the run fails
+    numerically. Newton is made to fail from 0.1 s on until the retry is on."""
+    from fem.dfp import build_system
+    from fem.dynamics import Integrator, StepControl
+
+    model = build_system(DFPBearing(), mesh_options=COARSE_MESH, cache_dir=mesh_cache,
+                         edge_radius=edge_radius)
+    integ = Integrator(model, lambda t: 0.0, control=StepControl(max_step=0.01))
+    real = integ.step
+
+    def step(t, h, *args):
+        if t > 0.095 and not model.system.carry_across_edges:  # the step from 0.1 s on
+            return None
+        return real(t, h, *args)
+
+    integ.step = step
+    out = integ.run(0.2)
+    if edge_radius:
+        assert not out.failed_numerically and out.time[-1] == pytest.approx(0.2)
+        assert out.friction_carried_from == pytest.approx(0.1)
+    else:
+        assert out.failed_numerically and "Newton did not converge" in out.message
+        assert out.friction_carried_from is None and not model.system.carry_across_edges

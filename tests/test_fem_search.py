@@ -468,7 +468,8 @@ def test_fem_run_hands_fracture_and_edges_to_the_model(fracture):
             rim_force=np.ones(3), torn_elements={7: (0.5, 1), 8: (0.51, 1)},
             energy={k: np.zeros(t.size) + (2.5 if k == "fracture" else 0.0)
                     for k in ("kinetic", "loose_kinetic", "strain", "contact", "fracture")},
-            bearing=bearing, top_plate_rise=np.zeros(t.size), slider_rise=np.zeros(t.size))
+            bearing=bearing, top_plate_rise=np.zeros(t.size), slider_rise=np.zeros(t.size),
+            friction_carried_from=0.25 if fracture else None)
 
     dt = 0.01
     a = 5.0 * np.sin(np.arange(0.0, 4.0, dt) * np.pi)
@@ -478,8 +479,10 @@ def test_fem_run_hands_fracture_and_edges_to_the_model(fracture):
     if fracture:
         assert seen[-1]["fracture"] == "mild" and seen[-1]["edge_radius"] == 0.015
         assert out["torn_elements"] == 2 and out["fracture_energy"] == 2.5
+        assert out["friction_carried_from"] == out["start"] + 0.25  # from the record's start
     else:
         assert "edge_radius" not in seen[-1] and "torn_elements" not in out
+        assert "friction_carried_from" not in out  # as in the runs stored before Eq. F16a
 
 
 @pytest.mark.parametrize(("falling", "runs"), [(True, 1), (False, 2)])
@@ -508,7 +511,7 @@ def test_falling_pieces_do_not_keep_a_run_from_being_quiet(falling, runs):
             rim_force=np.zeros((t.size, 4)),
             energy={"kinetic": kinetic, "loose_kinetic": kinetic if falling else 0 * kinetic,
                     "strain": 0 * t, "contact": 0 * t},
-            bearing=b, top_plate_rise=0 * t, slider_rise=0 * t)
+            bearing=b, top_plate_rise=0 * t, slider_rise=0 * t, friction_carried_from=None)
 
     dt = 0.01
     a = np.where(np.arange(0.0, 8.0, dt) < 3.0, 2.0 * np.sin(np.arange(0.0, 8.0, dt) * np.pi), 0.0)

@@ -115,7 +115,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
         ``max_rim_force`` [N], ``cpu_seconds``, ``wall_seconds``; with ``fracture`` also
         ``torn_elements`` (how many tore) and ``fracture_energy`` [J] (the energy they
         released); with ``crush_jacobian`` also ``crushed_elements`` (how many of those were
-        crushed).
+        crushed); ``friction_carried_from`` [s from the record's start] if a step was retried
+        with the friction carried across the slider's rounded edges (Eq. F16a).
     """
 
     if simulate is None:
@@ -168,6 +169,8 @@ def fem_run(bearing: dict, acceleration, dt: float, scale: float, *, mesh: str =
                        fracture_energy=float(res.energy["fracture"][-1]))
         if crush_jacobian:
             out["crushed_elements"] = len(res.crushed_elements)
+        if res.friction_carried_from is not None:  # only then, as the runs stored before it
+            out["friction_carried_from"] = t0 + res.friction_carried_from
         # Eq. C15, on what can still move the bearing: less the falling pieces (Eq. F69b)
         out["quiet"] = bool(energy[-1] - res.energy["loose_kinetic"][-1] < QUIET_FRACTION * reach)
         if res.failed or res.numerical_failure or out["quiet"]:

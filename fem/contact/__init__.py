@@ -16,6 +16,7 @@ from .slider import (
     body_coordinates,
     penetration,
     rotation,
+    tangent_continuous,
 )
 from .vertices import VertexContact, add_vertices, vertex_contact
 
@@ -40,6 +41,7 @@ __all__ = [
     "overlap_gap",
     "penetration",
     "rotation",
+    "tangent_continuous",
     "vertex_contact",
     "with_rim_vertices",
 ]

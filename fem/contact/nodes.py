@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .slider import SliderShape, body_coordinates, penetration, rotation
+from .slider import SliderShape, body_coordinates, penetration, rotation, tangent_continuous
 
 __all__ = ["ContactNodes", "ContactResult", "ContactState", "assemble", "evaluate",
            "initial_state"]
@@ -183,6 +183,7 @@ def evaluate(
     offset: np.ndarray,
     penalty: float,
     tangential_penalty: float,
+    carry_across_edges: bool = False,
 ) -> ContactResult:
     """Contact forces and tangents for slave positions ``x`` and slider pose ``pose``
     (docs/theory/finite-elements.md, Eqs. F15–F19).
@@ -203,6 +204,9 @@ def evaluate(
         Normal penalty ε_N (pressure per unit penetration).
     tangential_penalty : float [N/m³]
         Tangential (stick) penalty ε_T.
+    carry_across_edges : bool
+        A node that passes between a rounded edge and a face it joins with a common tangent
+        keeps its friction history (Eq. F16a); False: only on the same face (Eq. F16).
 
     Returns
     -------
@@ -224,8 +228,13 @@ def evaluate(
     grad_d = np.concatenate([-n, n, [-(nu * jxi).sum(axis=0)]])  # (5, n); Eq. F17
     grad_s = np.concatenate([t, -t, [(tau * jxi).sum(axis=0)]])
 
-    # Friction: elastic predictor from the last converged state on the same face (Eq. F16).
-    same = active & (state.face == face)
+    # Friction: elastic predictor from the last converged state on the same face (Eq. F16), or
+    # with carry_across_edges on one that meets it with a common tangent (Eq. F16a).
+    if carry_across_edges:
+        same = active & (state.face >= 0) & tangent_continuous(shape)[np.maximum(state.face, 0),
+                                                                      face]
+    else:
+        same = active & (state.face == face)
     slip = (tau * (xi - state.xi)).sum(axis=0)
     t_old = np.where(same, state.traction, 0.0)
     trial = np.where(active, t_old - tangential_penalty * L * slip, 0.0)

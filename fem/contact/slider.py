@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # pragma: no cover - typing only
     from rigid.bearing import DFPBearing
 
 __all__ = ["BOTTOM", "EDGES", "LEFT", "RIGHT", "TOP", "SliderShape", "body_coordinates",
-           "penetration", "rotation"]
+           "penetration", "rotation", "tangent_continuous"]
 
 #: Face labels returned by :func:`penetration`; the rounded edges (if any) are EDGES[k], k in
 #: the order of :attr:`SliderShape.vertices`.
@@ -104,6 +104,25 @@ class SliderShape:
         return np.array([[-x, x, -x, x], [zb - dz, zb - dz, zt + dz, zt + dz]])
 
 
+#: The faces each rounded edge joins, in the order of :data:`EDGES` (side, spherical face).
+EDGE_FACES = ((LEFT, BOTTOM), (RIGHT, BOTTOM), (LEFT, TOP), (RIGHT, TOP))
+
+
+@functools.lru_cache(maxsize=16)
+def tangent_continuous(shape: SliderShape) -> np.ndarray:
+    """Which faces meet with a common tangent, (8, 8) bool indexed by face label: a face with
+    itself, and each rounded edge with the side and the spherical face it joins (Eq. F14a).
+    Across such a boundary a node's tangential force keeps its direction, so its friction
+    history carries over (Eq. F16). Cached per shape, not to be modified."""
+    smooth = np.eye(len(EDGES) + 4, dtype=bool)
+    if shape.edge_radius > 0.0:
+        for edge, faces in zip(EDGES, EDGE_FACES, strict=True):
+            for f in faces:
+                smooth[edge, f] = smooth[f, edge] = True
+    smooth.flags.writeable = False
+    return smooth
+
+
 def penetration(shape: SliderShape, xi: np.ndarray):
     """Depth of body-frame points inside the slider section and the closest face (Eq. F14).
 
@@ -144,8 +163,7 @@ def _edges(shape: SliderShape) -> np.ndarray:
         return np.zeros((0, 7))
     centres = shape.edge_centres
     rows = []
-    for k, (side, sphere) in enumerate(((LEFT, BOTTOM), (RIGHT, BOTTOM), (LEFT, TOP),
-                                        (RIGHT, TOP))):
+    for k, (side, sphere) in enumerate(EDGE_FACES):
         f = centres[:, k]
         n_side = np.array([-1.0 if side == LEFT else 1.0, 0.0])
         n_face = f - shape.centres[sphere]
