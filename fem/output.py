@@ -196,9 +196,15 @@ def render_state(
     return path
 
 
+def slider_pose(bearing, d: np.ndarray) -> np.ndarray:
+    """The slider's pose (X, Z, Θ) [m, m, rad] of the :class:`rigid.DFPBearing` ``bearing`` at
+    the displacements ``d`` [m, rad] of its FE model (the slider's three dofs last)."""
+    return np.array([0.0, bearing.slider_height / 2, 0.0]) + d[-3:]
+
+
 def final_pose(result) -> np.ndarray:
     """The slider's pose (X, Z, Θ) [m, m, rad] at the end of an :class:`fem.FEMResult`."""
-    return np.array([0.0, result.bearing.slider_height / 2, 0.0]) + result.final_displacement[-3:]
+    return slider_pose(result.bearing, result.final_displacement)
 
 
 def render_result(path, result, **kwargs) -> Path:
@@ -226,7 +232,6 @@ def render_movie(path, result, *, fps: int = 10, **kwargs) -> Path:
     if not result.snapshots:
         raise ValueError("the result has no snapshots; run fem.simulate with snapshot_every > 0")
     shape = SliderShape.from_bearing(result.bearing, result.edge_radius)
-    base = np.array([0.0, result.bearing.slider_height / 2, 0.0])
     vm_max = max(float(von_mises(s[3]).max()) for s in result.snapshots) / 1e6
     p_max = max(float(s[2].max()) for s in result.snapshots) or 1e-6
     kwargs.setdefault("clims", {"von_mises": (0.0, vm_max), "eq_plastic_strain": (0.0, p_max)})
@@ -236,9 +241,8 @@ def render_movie(path, result, *, fps: int = 10, **kwargs) -> Path:
     tmp = path.with_suffix(".frame.png")
     title = kwargs.pop("title", "")
     for t, d, p, s in result.snapshots:
-        n_plate = d.size - 3
         render_state(
-            tmp, result.mesh, shape, d, base + d[n_plate:], s, p,
+            tmp, result.mesh, shape, d, slider_pose(result.bearing, d), s, p,
             title=f"{title}  t = {t:.3f} s", **kwargs,
         )
         frames.append(imageio.imread(tmp))
