@@ -290,6 +290,26 @@ def test_replay_reads_the_store_and_counts_what_is_missing(tmp_path):
     assert info.value.missing == {"cube": 2} and len(seen) == 6 and store.count() == 6
 
 
+
+def test_pruning_keeps_what_a_replay_reads(tmp_path):
+    """A store pruned to what its replay read (rigid.tasks.rekey.reading,
+    ResultStore.keep_only) loses the rows no replay asks for (here: another run's; in a
+    committed store, the rows keyed by older code) and replays to the same results."""
+    from rigid.tasks.rekey import reading
+
+    store = ResultStore(tmp_path / "r.sqlite")
+    ran = run_tasks(_tasks(1), store, workers=1, progress=False, follow_up=_next_rung)
+    other = [Task(task_key("cube", RIGID, x=x), "cube", _square, {"x": x}) for x in (7, 8)]
+    run_tasks(other, store, workers=1, progress=False)
+    assert store.count() == 8
+    with reading() as found:
+        run_tasks(_tasks(1), store, progress=False, follow_up=_next_rung, replay=True)
+    read = found[(tmp_path / "r.sqlite").resolve()]
+    assert len(read) == 6 and not read & {t.key for t in other}
+    assert store.keep_only(read) == {"cube": 2} and store.count() == 6
+    assert run_tasks(_tasks(1), store, progress=False, follow_up=_next_rung,
+                     replay=True) == ran
+
 def _rigid_tasks(n):
     """Rungs of a scaling ladder, run by the critical-SA search's own rung function."""
     bearing = DFPBearing(pressure=10e6)

@@ -23,13 +23,13 @@ import subprocess
 from collections import Counter
 from collections.abc import Callable
 from contextlib import contextmanager
-from pathlib import PurePosixPath
+from pathlib import Path, PurePosixPath
 
 from . import cache
 from . import store as _store
 from .runner import MissingResultsError, _one_blas_thread
 
-__all__ = ["RekeyError", "Rekeyed", "code_at", "recording", "rekey"]
+__all__ = ["RekeyError", "Rekeyed", "code_at", "reading", "recording", "rekey"]
 
 #: Result fields that measure the machine, not the physics: left out of the comparison, as
 #: is any field named with one of them as its end (``yielding_cpu_s``).
@@ -165,6 +165,20 @@ def recording():
         yield calls
     finally:
         _store.RECORD = previous
+
+
+@contextmanager
+def reading():
+    """Inside, every result a :class:`.store.ResultStore` finds is recorded: the dict yielded
+    holds the keys found, by the store file's resolved path (what a replay reads, so that
+    :meth:`.store.ResultStore.keep_only` can drop the rest)."""
+    found: dict = {}
+    previous = _store.READ
+    _store.READ = lambda path, keys: found.setdefault(Path(path).resolve(), set()).update(keys)
+    try:
+        yield found
+    finally:
+        _store.READ = previous
 
 
 def _physics(result):

@@ -31,6 +31,7 @@ import shutil
 import sqlite3
 import time
 import warnings
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -91,6 +92,9 @@ RECORD = None
 #: ``(kind, models, canonical inputs) -> code hash`` in place of :func:`code_hash` when set
 #: (:func:`rigid.tasks.rekey.code_at`).
 CODE = None
+#: Called with ``(store path, keys found)`` by every read of a :class:`ResultStore` that found
+#: results, when set (:func:`rigid.tasks.rekey.reading`).
+READ = None
 
 
 def key_of(kind: str, code: str, canonical) -> str:
@@ -324,7 +328,10 @@ class ResultStore:
     def get(self, key: str):
         """The stored result (a JSON value) or None."""
         row = self._db.execute("SELECT result FROM results WHERE key = ?", (key,)).fetchone()
-        return None if row is None else json.loads(row[0])
+        if row is None:
+            return None
+        self._read((key,))
+        return json.loads(row[0])
 
     @_named
     def get_many(self, keys) -> dict:
@@ -337,12 +344,19 @@ class ResultStore:
                 chunk,
             ).fetchall()
             found.update((k, json.loads(v)) for k, v in rows)
+        self._read(found)
         return found
 
     @_named
     def __contains__(self, key: str) -> bool:
         row = self._db.execute("SELECT 1 FROM results WHERE key = ?", (key,)).fetchone()
+        if row is not None:
+            self._read((key,))
         return row is not None
+
+    def _read(self, keys) -> None:
+        if READ is not None and keys:
+            READ(self.path, keys)
 
     @_named
     def put(self, key: str, kind: str, result, seconds: float | None = None) -> None:
@@ -381,6 +395,23 @@ class ResultStore:
             return self._db.execute("SELECT COUNT(*) FROM results").fetchone()[0]
         return self._db.execute("SELECT COUNT(*) FROM results WHERE kind = ?",
                                 (kind,)).fetchone()[0]
+
+    @_named
+    def keep_only(self, keys) -> Counter:
+        """Delete every result whose key is not among ``keys`` and compact the file; the
+        deleted results counted by kind."""
+        self._db.execute("CREATE TEMP TABLE IF NOT EXISTS kept (key TEXT PRIMARY KEY)")
+        self._db.execute("BEGIN")
+        self._db.execute("DELETE FROM kept")
+        self._db.executemany("INSERT OR IGNORE INTO kept VALUES (?)", ((k,) for k in keys))
+        gone = Counter(dict(self._db.execute(
+            "SELECT kind, COUNT(*) FROM results WHERE key NOT IN (SELECT key FROM kept) "
+            "GROUP BY kind").fetchall()))
+        self._db.execute("DELETE FROM results WHERE key NOT IN (SELECT key FROM kept)")
+        self._db.execute("COMMIT")
+        self._db.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+        self._db.execute("VACUUM")
+        return gone
 
     @_named
     def check(self) -> bool:

@@ -15,14 +15,25 @@ carries the finished ones over, one after the other (about 30 min of CPU in all,
 design spaces' rim pushes), in a checkout whose code is today's; REVISION is the last commit
 whose code made them. The stores no code of today reaches (:data:`STALE`) are remade with
 ``--rerun FOLDER ...`` (hours).
+
+A carrying over copies each result to today's key and keeps the old row, so a store grows
+with every code change by the rows no code of today asks for. ``--prune`` replays each
+finished store (into a scratch folder, computing nothing) and deletes the results the replay
+did not read (:meth:`rigid.tasks.ResultStore.keep_only`); ``tests/test_stores.py`` then shows
+that the pruned stores still replay to the answers their folders document.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
+from contextlib import contextmanager
+from pathlib import Path
 
 from . import DOCS
 from .containment_tearing import crushed_args
@@ -112,6 +123,56 @@ def rerun_command(folder: str) -> list[str]:
     return [sys.executable, "-m", module, *args, *out]
 
 
+def store_file(folder: str) -> Path:
+    """The result store of ``folder`` (under docs/)."""
+    return DOCS / folder / ("store" if folder in DESIGN_SPACES else "") / "results.sqlite"
+
+
+@contextmanager
+def _environment(**values):
+    previous = {k: os.environ.get(k) for k in values}
+    os.environ.update(values)
+    try:
+        yield
+    finally:
+        for k, v in previous.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def prune(folder: str) -> dict:
+    """Delete from the store of ``folder`` (a finished one) every result its replay does not
+    read; the deleted results by kind. The replay runs in this process on a copy of the
+    store, with an empty library cache (so the rim laws are read from the store too); a
+    replay that fails leaves the store as it was (:class:`RuntimeError`)."""
+    from rigid.tasks import ResultStore
+    from rigid.tasks.rekey import reading
+    from validation import cli
+
+    from . import rim_design
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "out"
+        copy = out / store_file(folder).relative_to(DOCS / folder)
+        copy.parent.mkdir(parents=True)
+        shutil.copy(store_file(folder), copy)
+        with reading() as found, _environment(DFP_CACHE_DIR=str(Path(tmp) / "cache")):
+            if folder in DESIGN_SPACES:
+                rim_design.main([*DESIGN_SPACES[folder], "--out", str(out), "--replay"])
+                status = 0
+            else:
+                status = cli.main(["validate", *REPLAYABLE[folder], "--out", str(out),
+                                   "--replay", "--no-progress"])
+        read = found.get(copy.resolve(), set())
+        if status or not read:
+            raise RuntimeError(f"{folder}: the replay failed (status {status}, "
+                               f"{len(read)} results read); the store is left as it was")
+    with ResultStore(store_file(folder)) as store:
+        return store.keep_only(read)
+
+
 def main(argv=None) -> int:
     finished = [*REPLAYABLE, *DESIGN_SPACES]
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
@@ -122,6 +183,9 @@ def main(argv=None) -> int:
     what.add_argument("--rerun", nargs="+", choices=list(STALE), metavar="FOLDER",
                       help=f"remake these stale stores from scratch, in this order (hours; "
                       f"{', '.join(STALE)})")
+    what.add_argument("--prune", action="store_true",
+                      help="delete from the finished stores the results their replay does "
+                      "not read (the rows carried over from older code)")
     p.add_argument("--only", nargs="+", choices=[*finished, *UNFINISHED], metavar="FOLDER",
                    help=f"these folders only (default: {', '.join(finished)}"
                    + (f"; an unfinished one, {', '.join(UNFINISHED)}, then goes on with its run)"
@@ -132,6 +196,17 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     if args.rerun and (args.only or args.keep_stored_laws):
         p.error("--only and --keep-stored-laws go with --rekey-from, not --rerun")
+    if args.prune:
+        if set(args.only or ()) & set(UNFINISHED):
+            p.error("--prune: an unfinished store is pruned once its run is done")
+        for folder in args.only or finished:
+            size = store_file(folder).stat().st_size
+            gone = prune(folder)
+            print(f"{folder}: deleted {sum(gone.values())} results "
+                  f"({', '.join(f'{k} {n}' for k, n in sorted(gone.items())) or 'none'}), "
+                  f"{size / 1e6:.1f} -> {store_file(folder).stat().st_size / 1e6:.1f} MB",
+                  flush=True)
+        return 0
     failed = []
     for folder in args.rerun or args.only or finished:
         t0 = time.perf_counter()
