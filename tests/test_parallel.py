@@ -291,6 +291,21 @@ def test_replay_reads_the_store_and_counts_what_is_missing(tmp_path):
 
 
 
+def test_a_resumed_run_reads_its_store_before_the_first_run(tmp_path):
+    """A resumed run finishes the stored tasks of its queue, and the stored follow-ups they
+    bring, before it starts a run, wherever they stand in the queue: its log's first line
+    counts the one task left to run, not the stored chain queued behind it (3 → 4 → 5)."""
+    store = ResultStore(tmp_path / "r.sqlite")
+    chain = [Task(task_key("square", RIGID, x=3), "square", _square, {"x": 3})]
+    stored = run_tasks(chain, store, workers=1, progress=False, follow_up=_next_rung)
+    new = Task(task_key("cube", RIGID, x=2), "cube", _square, {"x": 2})
+    log = tmp_path / "progress.log"
+    resumed = run_tasks([new, *chain], store, workers=1, progress=False, log=log,
+                        follow_up=_next_rung)
+    assert resumed == {**stored, new.key: {"y": 4}} and len(stored) == 3
+    first = next(line for line in log.read_text().splitlines() if "started" in line)
+    assert "started, 1 queued" in first, first
+
 def test_pruning_keeps_what_a_replay_reads(tmp_path):
     """A store pruned to what its replay read (rigid.tasks.rekey.reading,
     ResultStore.keep_only) loses the rows no replay asks for (here: another run's; in a

@@ -167,3 +167,21 @@ def test_piped_run_prints_plain_lines_and_logs_before_the_first_run_ends(tmp_pat
     assert not any("\r" in line for line in err)  # no bar
     logged = log.read_text().splitlines()
     assert len(logged) >= 1 + 2 + 4  # started, a line per run, the beats
+
+
+def test_a_resumed_run_starts_from_its_stored_run_times():
+    """A resumed run whose store timed its ten earlier runs (100 s each) estimates before its
+    own first run ends: 4 queued runs that bring nothing, on two workers, 4 × 100 / 2 s. Its
+    first run, 20 s (the shortest end first), weighs as the newest of eleven (half-life 50
+    runs), not as the only one."""
+    tally = P.Progress(2, clock=_Clock())
+    queue = [_task("fem", 0, leads=False) for _ in range(4)]
+    assert tally.estimate([], queue) is None  # nothing timed yet
+    for _ in range(10):
+        tally.stored("fem", 100.0)
+    tally.stored("fem", None)  # a result the store did not time: no weight
+    assert tally.estimate([], queue) == pytest.approx(200.0)
+    tally.record("fem", 20.0, [], queue)
+    w = tally.decay ** np.arange(10, -1, -1.0)
+    assert tally._mean("fem") == pytest.approx((100 * w[:-1].sum() + 20) / w.sum())
+    assert 90 < tally._mean("fem") < 95

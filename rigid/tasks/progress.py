@@ -55,14 +55,20 @@ class Progress:
     and a chain's run at depth d (the d-th after its first) is worth
     s_A m_A (1 + E[L − d − 1 | L > d]) (:meth:`_chain_rest`); a new chain s_A m_A E[L], which
     replaces r_AA in the sum (a ladder that starts searches counts their runs so). Without
-    the keys, the sum above stands."""
+    the keys, the sum above stands.
+
+    A resumed run also learns how long its stored results took to run (:meth:`stored`, the
+    store's record of each): they start the mean seconds of their kind, oldest first, so
+    that its first estimates do not rest on its first runs alone (the shortest end first),
+    and its own runs take over by recency."""
 
     def __init__(self, capacity: int, log=None, half_life: float = 50.0, clock=time.monotonic):
         self.capacity = max(1, int(capacity))
         self.clock = clock  # seconds, for the time so far and the running tasks' elapsed
         self.log = None if log is None else Path(log)
         self.decay = 0.5 ** (1.0 / half_life)  # weight kept by the older tasks of a kind
-        self.seconds: dict = {}
+        self.seconds: dict = {}    # kind → seconds of the runs of this run, in order
+        self.timed: dict = {}      # kind → seconds of the stored results read, in order
         self.finished: dict = {}   # kind → weight of the tasks finished (run or read)
         self.leading: dict = {}    # the same, of the tasks that may bring follow-ups
         self.met: dict = {}        # the same without the replay before the first run ends
@@ -104,9 +110,15 @@ class Progress:
         for t in follow_ups:
             self.children[kind, t.kind] = self.children.get((kind, t.kind), 0.0) + 1.0
 
+    def stored(self, kind: str, seconds: float | None) -> None:
+        """Enter the seconds a stored result of ``kind`` took when it ran (None: not timed)."""
+        if seconds is not None:
+            self.timed.setdefault(kind, []).append(float(seconds))
+
     def _mean(self, kind: str) -> float:
-        """Recency-weighted mean seconds of the runs of ``kind`` (class docstring)."""
-        runs = self.seconds[kind]
+        """Recency-weighted mean seconds of the runs of ``kind``, the stored ones' first
+        (class docstring)."""
+        runs = self.timed.get(kind, []) + self.seconds.get(kind, [])
         weights = self.decay ** np.arange(len(runs) - 1, -1, -1, dtype=float)
         return float(np.dot(weights, runs) / weights.sum())
 
@@ -152,11 +164,11 @@ class Progress:
         """Seconds left: the queued tasks with their expected follow-ups, and the running ones
         (``running``: their number, or ``(task, started)`` pairs, started on :attr:`clock`),
         over the workers; None before any run has finished (no rate known)."""
-        if not self.seconds:
+        every = [x for v in (*self.timed.values(), *self.seconds.values()) for x in v]
+        if not every:
             return None
-        every = [x for v in self.seconds.values() for x in v]
         overall = sum(every) / len(every)  # for kinds not timed yet
-        mean = {k: self._mean(k) for k in self.seconds}
+        mean = {k: self._mean(k) for k in {*self.timed, *self.seconds}}
         work = self._work(mean, overall)
 
         def after(task):  # the work a task's follow-ups bring, beyond its own run
@@ -177,7 +189,7 @@ class Progress:
             from types import SimpleNamespace
 
             last = SimpleNamespace(kind=self._last, key=None, leads=True)
-            running = [(last, now - mean[self._last] / 2)] * running
+            running = [(last, now - mean.get(self._last, overall) / 2)] * running
         busy = []
         for task, started in running:
             own = mean.get(task.kind, overall)

@@ -326,6 +326,7 @@ def run_tasks(
         executor.close(cancel=True)
         raise
     work = _Work(queue, store, follow_up, replay, seen, bar, Progress(executor.capacity, log))
+    work.read_stored()
     in_flight, started = work.in_flight, work.started
     beat = watch(work.tally, queue, in_flight, started, bar=bar if progress else None,
                  stream=sys.stderr if plain else None)
@@ -369,27 +370,50 @@ class _Work:
         self.results, self.in_flight, self.started = {}, {}, {}
         self.missing = Counter()
 
-    def next_to_run(self) -> Task | None:
-        """The next queued task that must run, or None once the queue is empty; on the way,
-        drop duplicates of tasks done or running, and finish the tasks found in the store (in
-        a replay, count those that are not)."""
+    def read_stored(self) -> None:
+        """Finish every queued task that the store holds, and every follow-up of theirs
+        that it holds too, before any run starts: a resumed run's replay all at once, so
+        that the log's first line counts the tasks left to run and :class:`Progress` meets
+        every read before the first run ends (reads met between runs would make the tasks
+        left look free: docs/validate.md, on the time left). The tasks left keep their order."""
+        if self.store is None:
+            return
+        left = []
         while self.queue:
             task = self.queue.popleft()
-            if task.key in self.results or any(t.key == task.key
-                                               for t in self.in_flight.values()):
-                self.bar.total -= task.size  # a duplicate of a task already done or running
+            if self._pending(task):
+                left.append(task)
+        self.queue.extend(left)
+
+    def next_to_run(self) -> Task | None:
+        """The next queued task that must run, or None once the queue is empty; on the way,
+        drop duplicates and finish the tasks found in the store (:meth:`_pending`; in a
+        replay, count those that are not)."""
+        while self.queue:
+            task = self.queue.popleft()
+            if not self._pending(task):
                 continue
-            stored = None if self.store is None else self.store.get(task.key)
-            if stored is not None:
-                if self.seen is not None:
-                    self.seen[task.key] = task
-                self.finish(task, stored)
-            elif self.replay:
-                self.missing[task.kind] += 1
-                self.bar.total -= task.size
-            else:
+            if not self.replay:
                 return task
+            self.missing[task.kind] += 1
+            self.bar.total -= task.size
         return None
+
+    def _pending(self, task: Task) -> bool:
+        """Whether ``task`` is still to be run: a duplicate of a task done or running is
+        dropped and one the store holds is finished with its stored result (False)."""
+        if task.key in self.results or any(t.key == task.key for t in self.in_flight.values()):
+            self.bar.total -= task.size
+            return False
+        stored = None if self.store is None else self.store.get(task.key)
+        if stored is None:
+            return True
+        if self.seen is not None:
+            self.seen[task.key] = task
+        if not self.replay:
+            self.tally.stored(task.kind, self.store.seconds(task.key))
+        self.finish(task, stored)
+        return False
 
     def finish(self, task: Task, result, seconds: float | None = None) -> None:
         """Book ``result`` of ``task`` (run for ``seconds``, or None: read from the store) and
