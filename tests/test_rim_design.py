@@ -130,6 +130,30 @@ def test_containment_with_tearing_checks_the_issue_targets():
     assert [(s["crush_jacobian"], s["n"]) for s in stats] == [("", 5), (0.1, 2)]
 
 
+def test_the_containment_figure_has_a_panel_per_validation(tmp_path):
+    """validation/studies/containment_tearing_figure.py: a panel per (thickness, crushing),
+    thinner first and uncrushed before crushed, only containment cases with both answers;
+    its legend counts the cases within ±20 % as the statistics do (FE/rigid 1.1 and 1.3: one;
+    FE/first touch 1.5 twice: none)."""
+    from rigid.collapse.comparison import write_csv
+    from validation.studies.containment_tearing_figure import _within, draw, panels
+
+    def case(t, crush, fe, rigid, touch, state="containment"):
+        return {"crush_jacobian": crush, "rim_thickness_mm": t, "limit_state": state,
+                "fem_sa_g": fe, "yielding_sa_g": rigid, "first_touch_sa_g": touch,
+                "run_finished": "True"}
+
+    rows = [case(80, "", 0.33, 0.3, 0.22), case(40, 0.1, 0.39, 0.3, 0.26),
+            case(40, "", 0.33, 0.3, 0.22), case(40, "", 0.39, 0.3, 0.26),
+            case(40, "", 0.5, "", 0.3), case(40, "", 0.5, 0.5, 0.3, "hinge")]
+    write_csv(rows, tmp_path / "c.csv")
+    groups = panels([{k: str(v) for k, v in r.items()} for r in rows])
+    assert [(t, c, len(g)) for (t, c), g in groups.items()] == [
+        (40.0, "", 2), (40.0, "0.1", 1), (80.0, "", 1)]
+    assert _within(groups[40.0, ""], "yielding_sa_g") == 1
+    assert _within(groups[40.0, ""], "first_touch_sa_g") == 0
+    assert draw(tmp_path / "c.csv", tmp_path / "c.png").stat().st_size > 10_000
+
 def test_fracture_sensitivity_sets_each_set_beside_the_median(tmp_path):
     """validation/studies/fracture_sensitivity.py: per record each set's SA and its ratio to
     the median set's, read from a finished run's fem_comparison.csv or from the finished rows

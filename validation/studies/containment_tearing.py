@@ -23,6 +23,9 @@ which the rigid-rim model touches a rim). Writes to ``docs/results/``:
   ±15 %, at least 80 % of the cases within ±35 %, and more cases within ±20 % of the rigid
   model than of the first touch.
 
+and draws ``docs/images/containment_tearing.png`` from them (beside the CSVs with ``--out``)
+(:mod:`validation.studies.containment_tearing_figure`).
+
 Run: ``python -m validation.studies.containment_tearing``.
 """
 
@@ -34,6 +37,7 @@ from pathlib import Path
 from rigid.collapse.comparison import write_csv
 
 from . import DOCS, RESULTS, validation_table
+from .containment_tearing_figure import PNG, draw
 from .rim_design import OUT as DESIGN_SPACE
 from .rim_design_fem import comparison
 from .rim_design_fem import statistics_rows as fem_statistics
@@ -116,6 +120,8 @@ def main(argv=None) -> None:
     write_csv(rows, args.out / "containment_tearing.csv")
     stats = statistics_rows(rows)
     write_csv(stats, args.out / "containment_tearing_statistics.csv")
+    draw(args.out / "containment_tearing.csv",  # beside the CSVs when they go elsewhere
+         PNG if args.out == RESULTS else args.out / "containment_tearing.png")
     for s in stats:
         crushed = f", crushing J_c {s['crush_jacobian']:g}" if s["crush_jacobian"] != "" else ""
         print(f"{s['rim_thickness_mm']:g} mm{crushed}, {s['cases']} cases: {s['n']} of {s['of']}; "
