@@ -32,8 +32,8 @@ import subprocess
 import sys
 import tempfile
 import time
-from contextlib import contextmanager
 from pathlib import Path
+from unittest import mock
 
 from . import DOCS
 from .containment_tearing import crushed_args
@@ -128,20 +128,6 @@ def store_file(folder: str) -> Path:
     return DOCS / folder / ("store" if folder in DESIGN_SPACES else "") / "results.sqlite"
 
 
-@contextmanager
-def _environment(**values):
-    previous = {k: os.environ.get(k) for k in values}
-    os.environ.update(values)
-    try:
-        yield
-    finally:
-        for k, v in previous.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-
-
 def prune(folder: str) -> dict:
     """Delete from the store of ``folder`` (a finished one) every result its replay does not
     read; the deleted results by kind. The replay runs in this process on a copy of the
@@ -158,7 +144,8 @@ def prune(folder: str) -> dict:
         copy = out / store_file(folder).relative_to(DOCS / folder)
         copy.parent.mkdir(parents=True)
         shutil.copy(store_file(folder), copy)
-        with reading() as found, _environment(DFP_CACHE_DIR=str(Path(tmp) / "cache")):
+        empty_cache = {"DFP_CACHE_DIR": str(Path(tmp) / "cache")}
+        with reading() as found, mock.patch.dict(os.environ, empty_cache):
             if folder in DESIGN_SPACES:
                 rim_design.main([*DESIGN_SPACES[folder], "--out", str(out), "--replay"])
                 status = 0
