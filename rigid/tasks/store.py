@@ -398,8 +398,8 @@ class ResultStore:
 
     @_named
     def keep_only(self, keys) -> Counter:
-        """Delete every result whose key is not among ``keys`` and compact the file; the
-        deleted results counted by kind."""
+        """Delete every result whose key is not among ``keys`` and compact the file (left
+        as it was if none is deleted); the deleted results counted by kind."""
         self._db.execute("CREATE TEMP TABLE IF NOT EXISTS kept (key TEXT PRIMARY KEY)")
         self._db.execute("BEGIN")
         self._db.execute("DELETE FROM kept")
@@ -409,8 +409,9 @@ class ResultStore:
             "GROUP BY kind").fetchall()))
         self._db.execute("DELETE FROM results WHERE key NOT IN (SELECT key FROM kept)")
         self._db.execute("COMMIT")
-        self._db.execute("PRAGMA wal_checkpoint(TRUNCATE)")
-        self._db.execute("VACUUM")
+        if gone:
+            self._db.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+            self._db.execute("VACUUM")
         return gone
 
     @_named
