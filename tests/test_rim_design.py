@@ -154,6 +154,23 @@ def test_the_containment_figure_has_a_panel_per_validation(tmp_path):
     assert _within(groups[40.0, ""], "first_touch_sa_g") == 0
     assert draw(tmp_path / "c.csv", tmp_path / "c.png").stat().st_size > 10_000
 
+def test_the_slider_lifts_where_the_rims_upward_force_passes_the_weight():
+    """validation/studies/slider_lift.py: W = p·πd²/4 (0.4 m slider: 1.257 MN at 10 MPa,
+    7.540 MN at 60 MPa); the first set at which the upward force reaches W, none at 60 MPa
+    here; the largest force and where; the push's tear and end."""
+    from types import SimpleNamespace
+
+    from validation.studies.slider_lift import lift_rows
+
+    curve = [{"rim_thickness_mm": 120.0, "set_mm": d, "vertical_mn": f}
+             for d, f in ((10.0, 0.5), (20.0, 1.3), (30.0, 2.0), (40.0, 1.0))]
+    at10, at60 = lift_rows(curve, SimpleNamespace(fracture_displacement=0.035), (10, 60))
+    assert at10["weight_mn"] == pytest.approx(1.2566, rel=1e-4)
+    assert at60["weight_mn"] == pytest.approx(7.5398, rel=1e-4)
+    assert (at10["lifted_from_mm"], at60["lifted_from_mm"]) == (20.0, "")
+    assert (at10["largest_upward_mn"], at10["largest_at_mm"]) == (2.0, 30.0)
+    assert (at10["first_tear_mm"], at10["push_end_mm"]) == (pytest.approx(35.0), 40.0)
+
 def test_fracture_sensitivity_sets_each_set_beside_the_median(tmp_path):
     """validation/studies/fracture_sensitivity.py: per record each set's SA and its ratio to
     the median set's, read from a finished run's fem_comparison.csv or from the finished rows
