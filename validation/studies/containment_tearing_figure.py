@@ -23,6 +23,7 @@ import matplotlib.pyplot as plt
 from validation.report.write import save_figure
 
 from . import DOCS, RESULTS, read_csv
+from .rim_design_fem import _share
 
 PNG = DOCS / "images" / "containment_tearing.png"
 #: The predictors set against the FE answer: column, label, marker, colour.
@@ -43,8 +44,10 @@ def panels(rows: list[dict]) -> dict:
 
 
 def _within(rows: list[dict], column: str) -> int:
-    return sum(abs(float(r["fem_sa_g"]) / float(r[column]) - 1) <= BAND
-               for r in rows if r[column])
+    """How many of ``rows`` have FE/``column`` within ±:data:`BAND`, counted as the
+    statistics count them (:func:`validation.studies.rim_design_fem._share`)."""
+    ratios = [float(r["fem_sa_g"]) / float(r[column]) for r in rows if r[column]]
+    return round(_share(ratios, BAND) * len(ratios)) if ratios else 0
 
 
 def draw(csv_path: Path = RESULTS / "containment_tearing.csv", png: Path = PNG) -> Path:
